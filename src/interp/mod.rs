@@ -924,6 +924,9 @@ pub struct Interpreter<'a> {
     arc_fit: [u32; 2],
     /// Whether the program stated its units (G20, G21).
     units_stated: bool,
+    /// Whether a comment names a tool by an inch size (`(T04 - 3/4" BORING BAR)`): see
+    /// `comments::inch_tool_size`.
+    inch_tool_comment: bool,
     /// Feeds per revolution read: how many, and the largest.
     per_rev_feeds: (u32, f64),
     /// Feeds per revolution set under constant surface speed with a speed limit, at a known
@@ -1077,6 +1080,7 @@ impl<'a> Interpreter<'a> {
             after_end_noted: false,
             arc_fit: [0, 0],
             units_stated: false,
+            inch_tool_comment: false,
             per_rev_feeds: (0, 0.0),
             css_fit: (0, 0),
             request: None,
@@ -1212,9 +1216,13 @@ impl<'a> Interpreter<'a> {
         // 0.02-0.05 mm/rev. The constant surface speed must also fit inches only: in
         // millimetres nearly every cut would turn above the spindle limit.
         let (metric, inch_only) = self.css_fit;
-        // A short program (a boring bar's `G71` and `G70`: two feeds) tells it as surely where
-        // both agree and nothing speaks for millimetres.
-        let css_inch = (inch_only >= 3 && metric * 10 <= inch_only + metric) || (inch_only == 2 && metric == 0 && count == 2);
+        // A short program (a boring bar's `G71` and `G70`: two feeds) tells it only with
+        // evidence of its own: two feeds are no pattern, and a metric boring bar in a small
+        // bore (Ø7 at S100, F0.05/F0.03) turns above its clamp as often as not. A comment that
+        // names a tool by an inch size (`3/4" BORING BAR`, as shops in inch label their tools)
+        // is that evidence: an invented ×25.4 is far worse than a missed one.
+        let css_inch = (inch_only >= 3 && metric * 10 <= inch_only + metric)
+            || (inch_only == 2 && metric == 0 && count == 2 && self.inch_tool_comment);
         if !self.profile.inch && !self.units_stated && count >= 2 && largest <= 0.06 && css_inch {
             let msg = format!(
                 "no units stated; all {count} feeds per revolution are at most 0.06 (the largest F{largest}): no turning feed in mm/rev, ordinary in inch/rev; and the constant surface speed turns {inch_only} cuts within the spindle limit only in ft/min ({metric} in m/min); read in inch"

@@ -237,13 +237,21 @@ impl Interpreter<'_> {
         let pitch = get(Role::Pitch).map(f64::abs).filter(|p| *p > 0.0).unwrap_or(safe - floor);
         // Half turns, each as deep as the others, down to the floor; counted as a float first, so
         // that an infeed per turn of a micron over a deep bore, or a tiny one, is not a loop of
-        // billions. One bound for the whole run, as the pocket passes have one: a modal call
-        // repeats the cycle at each of a pattern's positions.
+        // billions. A bound on each call, and a larger one for the whole run (a modal call
+        // repeats the cycle at each of a pattern's positions: 84 bores of 120 half turns each
+        // are a valid program, a million half turns are no longer worth drawing).
         let halves = (((safe - floor) / (pitch / 2.0)) - 1e-9).ceil().max(1.0);
-        if !halves.is_finite() || self.helix_halves as f64 + halves > MAX_HELIX_HALVES as f64 {
-            let msg = format!(
-                "{name}: more than {MAX_HELIX_HALVES} half turns of bores milled in a helix in the program: this call is kept as intent only, its moves are not expanded"
-            );
+        let call = !halves.is_finite() || halves > MAX_HELIX_HALVES as f64;
+        if call || self.helix_halves as f64 + halves > MAX_HELIX_HALVES_RUN as f64 {
+            let msg = if call {
+                format!(
+                    "{name}: more than {MAX_HELIX_HALVES} half turns in one bore milled in a helix: this call is kept as intent only, its moves are not expanded"
+                )
+            } else {
+                format!(
+                    "{name}: more than {MAX_HELIX_HALVES_RUN} half turns of bores milled in a helix in the program: this call is kept as intent only, its moves are not expanded"
+                )
+            };
             let mut d = Diagnostic::new(Code::Unsupported, range, msg);
             d.severity = Severity::Warning;
             self.limited(diags, "cycle-not-expanded", d);
@@ -321,11 +329,15 @@ const MAX_SLOTS: f64 = 100.0;
 /// would otherwise write up to a million passes).
 const MAX_POCKET_PASSES: usize = 10_000;
 
-/// The most half turns the bores milled in a helix of one run expand into in all (each half
-/// turn an arc): as many as the pocket and slot passes. Past it a call is kept as intent only
-/// (an infeed per turn of 0.001 mm down a bore 100 mm deep would otherwise write 200 000 arcs,
-/// and a modal call repeats that at each of a pattern's positions).
+/// The most half turns one bore milled in a helix expands into (each half turn an arc): as
+/// many as the pocket and slot passes. Past it the call is kept as intent only (an infeed per
+/// turn of 0.001 mm down a bore 100 mm deep would otherwise write 200 000 arcs).
 const MAX_HELIX_HALVES: usize = 10_000;
+
+/// The most half turns the bores milled in a helix of one run expand into in all: a modal call
+/// repeats the cycle at each of a pattern's positions (84 bores of 120 half turns, 10 080, is an
+/// ordinary program); past a million the later calls are kept as intent only.
+const MAX_HELIX_HALVES_RUN: usize = 1_000_000;
 
 /// Slots on a circle (Siemens `SLOT1`, "slots on a circle" in the 840D cycles manual): `NUM`
 /// slots of the length and width the slot states, each along the radius of the circle about

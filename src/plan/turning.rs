@@ -300,7 +300,8 @@ fn roughed_then_finished(plan: &mut ProcessPlan) {
 /// the largest radius an inside workingstep cut at that Z, before it on the same part in the
 /// same place (setup, work offset, spindle). A groove whose bottom stays outside the bore is
 /// still a groove. And one plunge at one Z by a tool the program names a cut-off or parting
-/// tool parts off, the tube's bore known or not.
+/// tool parts off where it reaches the bore known before it or the tube's bore a later face at
+/// that Z tells.
 fn parted_through_the_bore(plan: &mut ProcessPlan) {
     let place = |w: &Workingstep| (w.setup, w.state.work_offset, w.technology.spindle_id);
     for k in 0..plan.workingsteps.len() {
@@ -328,7 +329,20 @@ fn parted_through_the_bore(plan: &mut ProcessPlan) {
             ["CUTOFF", "PARTOFF", "PARTING", "ABSTECH"].iter().any(|k| n.contains(k))
         });
         let one_plunge = runs(ws).len() == 1 && cuts.iter().all(|m| (m.to[2] - z).abs() < TOL && (m.from[2] - z).abs() < TOL);
-        if (bore > 0.05 && x <= bore + TOL && outer > bore + 0.5) || (named && one_plunge) {
+        // Named so, it still parts off only where it reaches the bore: one known before it, or
+        // the tube's, which the part's new face tells when a later workingstep in the same place
+        // faces it at that Z in to a diameter short of the axis that the plunge came within the
+        // face's clearance of (0.5 mm on the radius; Lynx 300 O2700: cut off to Ø1.4 in, the
+        // face then to Ø1.375 in). A cut-off blade that stops in the wall of a solid bar cuts a
+        // groove (shops groove with the cut-off blade they part with).
+        let tube_face = plan.workingsteps[k + 1..].iter().filter(|w| place(w) == place(ws)).any(|w| {
+            self::cuts(w).iter().any(|m| {
+                let inner = m.from[0].min(m.to[0]);
+                straight_across(m) && (m.to[2] - z).abs() < TOL && inner > 0.05 && x <= inner + 0.5 + TOL
+            })
+        });
+        let through = (bore > 0.05 && x <= bore + TOL) || tube_face;
+        if (bore > 0.05 && x <= bore + TOL && outer > bore + 0.5) || (named && one_plunge && through) {
             if let Some(t) = plan.workingsteps[k].turning.as_mut() {
                 t.operation = Some(TurnOp::PartingOff);
                 t.rough = false;
@@ -345,7 +359,8 @@ fn parted_through_the_bore(plan: &mut ProcessPlan) {
 /// after a tool change, with nothing else telling its side: an inside contour finished from
 /// the mouth steps down to smaller diameters as an outside one of a part larger at its front
 /// does). Only where every cut along Z is so, at least one runs 1 mm along Z, and the outside
-/// is turned beside one of them (`walled`).
+/// is turned beside one of them (`walled`), and the pass is a boring tool's, cut towards the
+/// chuck under G41, or left towards the axis (`left_inward`).
 fn finished_in_the_bore(plan: &mut ProcessPlan) {
     let place = |w: &Workingstep| (w.setup, w.state.work_offset, w.technology.spindle_id);
     for k in 1..plan.workingsteps.len() {
@@ -385,7 +400,20 @@ fn finished_in_the_bore(plan: &mut ProcessPlan) {
                 })
             })
         };
-        if along.iter().all(|m| in_bore(m)) && along.iter().any(|m| walled(m)) {
+        // And the pass works from inside: run by a boring tool, or left towards the axis as a
+        // boring bar leaves the wall it cut (`left_inward`). An outside finish of a thin sleeve
+        // lies within 0.5 mm of its bore too, and leaves outwards.
+        let tool = plan.tools.iter().find(|tl| tl.number == ws.tool);
+        let boring = tool.is_some_and(|t| {
+            t.kind == ToolKind::BoringTool || t.name.as_deref().is_some_and(|n| n.to_ascii_uppercase().contains("BORING"))
+        });
+        // Or cut towards the chuck under G41: with the tool moving towards -Z, the tool nose
+        // radius compensation on its left keeps it on the axis side of the contour, as in
+        // boring (G42 for turning outside: Fanuc lathe operator's manual, tool nose radius
+        // compensation; Smid, CNC Programming Handbook, the same on either turret).
+        let comp = &ws.state.cutter_comp;
+        let bored_left = !comp.is_empty() && comp.iter().all(|c| c.left) && along.iter().all(|m| m.to[2] < m.from[2] && m.to[0] > 0.0);
+        if along.iter().all(|m| in_bore(m)) && along.iter().any(|m| walled(m)) && (boring || bored_left || left_inward(ws)) {
             if let Some(t) = plan.workingsteps[k].turning.as_mut() {
                 t.inside = true;
             }
@@ -1400,7 +1428,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         .and_then(|i| ws.toolpath.get(i + 1))
         .is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
-    let Across { mostly: mostly_across, levels, widened, fed_down, face } = across_passes(ws, &cuts, &runs, xmin);
+    let Across { mostly: mostly_across, levels, widened, fed_down, face } = across_passes(ws, &cuts, &runs, xmin, front, boring);
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
     // Passes recovery joined as one operation, each a step from the one before.
     let stepped_in = t.intent.as_ref().is_some_and(|i| i.kind.is_none() && i.depth_of_cut.is_some_and(|d| d > TOL));
@@ -1582,7 +1610,7 @@ struct Across {
 /// feed positions the tool in the air (`G1 Z0. F2.` before a face at F0.05): no cut, whatever
 /// way it runs (compared per revolution: under a constant surface speed a feed per minute
 /// grows as the tool nears the axis).
-fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64) -> Across {
+fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64, front: f64, boring: bool) -> Across {
     let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
     let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
@@ -1603,7 +1631,7 @@ fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64)
         it.next().is_some_and(|m| along(m) && m.to[2] < m.from[2] - TOL)
             && it.next().is_some_and(|m| across(m) && !air(m) && (m.to[0].abs() < 0.05 || m.to[0] * m.from[0] < 0.0))
     });
-    let face = face_with_lead_in(runs, xmin, &air);
+    let face = face_with_lead_in(runs, xmin, &air, front, boring);
     Across { mostly, levels, widened, fed_down, face }
 }
 
@@ -1796,8 +1824,11 @@ fn profiled_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
 /// most of the cut.
 /// Moves at a feed `air` tells (a positioning feed many times the cutting feed) count for
 /// nothing; the pass may go back out along the face it cut (`X0.` then `X60.`). Clear of the
-/// axis, a boring bar's lead-in and its one cut out across from the bore face too.
-fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool) -> bool {
+/// axis, a boring bar's lead-in and its one cut out across from the bore face too, where the
+/// tool is a boring tool or the lead-in ends at the part's front (`front`): an outside tool
+/// fed along Z into the stock and then out across turns a diameter and its shoulder
+/// (`G1 Z-2.` at Ø20, then `X40.`), the lead-in being the cut.
+fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool, front: f64, boring: bool) -> bool {
     let [run] = runs else { return false };
     let across_x = |m: &&Move| (m.to[2] - m.from[2]).abs() < TOL;
     let across: f64 = run.iter().filter(|m| !air(m)).filter(across_x).map(|m| (m.to[0] - m.from[0]).abs()).sum();
@@ -1813,7 +1844,11 @@ fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool)
     // `G1 Z0.` at Ø1.8), as a turning tool faces in to the axis.
     let out_of_the_bore = match run.iter().filter(|m| !air(m)).collect::<Vec<_>>().as_slice() {
         [lead, cut] => {
-            (lead.to[0] - lead.from[0]).abs() < TOL && lead.to[2] < lead.from[2] - TOL && across_x(cut) && cut.to[0] > cut.from[0] + TOL
+            (lead.to[0] - lead.from[0]).abs() < TOL
+                && lead.to[2] < lead.from[2] - TOL
+                && across_x(cut)
+                && cut.to[0] > cut.from[0] + TOL
+                && (boring || lead.to[2] >= front - TOL)
         }
         _ => false,
     };

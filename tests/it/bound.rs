@@ -162,11 +162,11 @@ fn every_command_that_stops_early_says_so() {
 
 /// A bore milled in a helix (Heidenhain `CYCL DEF 208`) with an infeed per turn of a micron down
 /// a bore 100 deep would be 200 000 arcs, and a modal call repeats it at each position: the half
-/// turns of the whole run are bounded (10 000) as the pocket and slot passes are, and past the
+/// turns of one call are bounded (10 000) as the pocket and slot passes are, and past the
 /// bound the call is kept as intent with one warning at its call. A bore within the bound is
 /// milled as its helix; one past the bound after it is not.
 #[test]
-fn helical_bores_have_one_bound_for_the_run() {
+fn helical_bores_have_a_bound_per_call() {
     let dialect = ncplan::dialect::Registry::shipped().get("heidenhain").unwrap();
     let bore = |depth: &str, pitch: &str| {
         format!(
@@ -182,7 +182,7 @@ fn helical_bores_have_one_bound_for_the_run() {
     );
     let a = ncplan::pipeline::analyze(text.as_bytes(), &dialect, &Profile::default());
     let line_of = |d: &ncplan::diag::Diagnostic| text[..d.range.start as usize].matches('\n').count() + 1;
-    let bound: Vec<_> = a.diagnostics.iter().filter(|d| d.message.contains("half turns of bores milled in a helix")).collect();
+    let bound: Vec<_> = a.diagnostics.iter().filter(|d| d.message.contains("half turns in one bore milled in a helix")).collect();
     assert_eq!(bound.len(), 1, "{:?}", a.diagnostics);
     assert_eq!(bound[0].code.as_str(), "interp::unsupported");
     assert_eq!(bound[0].severity, Severity::Warning);
@@ -190,4 +190,26 @@ fn helical_bores_have_one_bound_for_the_run() {
     // The first bore is milled: its arcs are in the plan; the second writes none.
     let arcs: usize = a.plan.workingsteps.iter().map(|w| w.toolpath.iter().filter(|m| m.arc.is_some()).count()).sum();
     assert!((6..1000).contains(&arcs), "{arcs} arcs");
+}
+
+/// 84 bores milled in a helix of 120 half turns each (Heidenhain `CYCL DEF 208`, 58 deep at
+/// 1 per turn from 2 above): 10 080 half turns in all, an ordinary program, each bore within the
+/// bound of one call and the run far within its million. Every bore is milled; no warning.
+#[test]
+fn many_helical_bores_are_all_milled() {
+    let dialect = ncplan::dialect::Registry::shipped().get("heidenhain").unwrap();
+    let mut text = String::from("BEGIN PGM T MM\nTOOL CALL 1 Z S3000\nL X+0 Y+0 Z+50 R0 FMAX\n");
+    text.push_str(
+        "CYCL DEF 208 BORE MILLING ~\n  Q200=2 ;SET-UP CLEARANCE ~\n  Q201=-58 ;DEPTH ~\n  Q206=150 ;FEED RATE FOR PLNGNG ~\n  \
+         Q334=1 ;PLUNGING DEPTH ~\n  Q203=+0 ;SURFACE COORDINATE ~\n  Q204=50 ;2ND SET-UP CLEARANCE ~\n  \
+         Q335=10 ;NOMINAL DIAMETER ~\n  Q342=0 ;ROUGHING DIAMETER\n",
+    );
+    for i in 0..84 {
+        text.push_str(&format!("L X+{} Y+{} R0 FMAX\nCYCL CALL\n", 20 * (i % 12), 20 * (i / 12)));
+    }
+    text.push_str("END PGM T MM\n");
+    let a = ncplan::pipeline::analyze(text.as_bytes(), &dialect, &Profile::default());
+    assert!(a.diagnostics.iter().all(|d| !d.message.contains("milled in a helix")), "{:?}", a.diagnostics);
+    let arcs: usize = a.plan.workingsteps.iter().map(|w| w.toolpath.iter().filter(|m| m.arc.is_some()).count()).sum();
+    assert!(arcs >= 84 * 120, "{arcs} arcs");
 }

@@ -2152,13 +2152,17 @@ G0 X200. Z200.\nM30\n";
 N10 G0 X30.\nG1 Z0.\nZ-10.\nX24.\nN20 Z-20.\nG70 P10 Q20 F0.1\nG0 X200. Z200.\nM30\n";
     let (ws, _) = labels(rough, "fanuc_lathe");
     assert_eq!(ws, ["contouring rough inside", "contouring finish inside"]);
-    // A cut-off tool's one plunge at Z-10 from Ø50 to Ø35 (a tube's wall): parting off; the same
-    // plunge by a grooving tool the program names so is a groove.
-    let cut = |name: &str| {
-        format!("O3\nG21 G99\n({name})\nT0101\nG50 S2000\nG96 S100 M3\nG0 X52. Z-10.\nG1 X35. F0.05\nG0 X60.\nX200. Z200.\nM30\n")
+    // A cut-off tool's one plunge at Z-10 from Ø50 to Ø35 through a tube's wall, the new face
+    // then faced at Z-10 in to Ø34.5 (the tube's bore, as Lynx 300 O2700 faces it): parting off;
+    // the same plunge by a grooving tool the program names so is a groove, and so is the cut-off
+    // tool's where nothing tells a bore there (review16a: a blade stopping in a bar's wall).
+    let cut = |name: &str, face: bool| {
+        let face = if face { "T0202\nG97 S300 M3\nG0 X52. Z-10.\nG1 X34.5 F0.08\nG0 X60.\nX200. Z200.\n" } else { "" };
+        format!("O3\nG21 G99\n({name})\nT0101\nG50 S2000\nG96 S100 M3\nG0 X52. Z-10.\nG1 X35. F0.05\nG0 X60.\nX200. Z200.\n{face}M30\n")
     };
-    assert_eq!(labels(&cut("T01 CUT OFF AT 10"), "fanuc_lathe").0, ["parting off"]);
-    assert_eq!(labels(&cut("T01 OD GROOVE"), "fanuc_lathe").0, ["grooving finish"]);
+    assert_eq!(labels(&cut("T01 CUT OFF AT 10", true), "fanuc_lathe").0.first().map(String::as_str), Some("parting off"));
+    assert_eq!(labels(&cut("T01 OD GROOVE", true), "fanuc_lathe").0.first().map(String::as_str), Some("grooving finish"));
+    assert_eq!(labels(&cut("T01 CUT OFF AT 10", false), "fanuc_lathe").0, ["grooving finish"]);
     // A boring bar fed in along Z at Ø45 to the front, then out across it to Ø76: it faces the
     // front (not inside), then bores.
     let face_out = "O5\nG21 G99\nT0808 (BORING BAR)\nG50 S2500\nG96 S190 M3\nG0 X45. Z5.\nG1 Z0. F0.25\nX76. F0.15\n\
@@ -2246,4 +2250,103 @@ fn a_face_groove_is_its_own_feature() {
           start point moved from Ø112 Z1 to Ø114 Z1 at line 20
     "#]]
     .assert_eq(&wider);
+}
+
+/// A turned feature as (kind, diameter, length or width, inside).
+type TurnedRow = (String, f64, f64, bool);
+
+/// The workingsteps' labels and the turned features of a program.
+fn turned_of(program: &str) -> (Vec<String>, Vec<TurnedRow>) {
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let plan = pipeline::analyze(program.as_bytes(), &d, &Profile::default()).plan;
+    let features = plan
+        .features
+        .iter()
+        .filter_map(|f| match &f.kind {
+            FeatureKind::Turned(Turned::Diameter { diameter, length, inside }) => {
+                Some(("diameter".to_owned(), *diameter, *length, *inside))
+            }
+            FeatureKind::Turned(Turned::Groove { diameter, width, inside }) => {
+                Some(("groove".to_owned(), *diameter, width.unwrap_or(0.0), *inside))
+            }
+            _ => None,
+        })
+        .collect();
+    (plan.workingsteps.iter().map(|w| w.label()).collect(), features)
+}
+
+/// A short metric boring program with no G20/G21: a boring bar's `G71` at F0.05 and `G70` at
+/// F0.03 in a Ø7 hole, where S100 m/min turns above the G50 S3000 clamp (4547/min), as it does
+/// on any small bore. Two feeds and a surface speed that fits only ft/min are no proof of inch:
+/// the program stays a Ø10 × 12 bore in mm. The same program with a tool comment naming an inch
+/// size (`3/4" BORING BAR`) is read in inch, as the Lynx 300's O0022.
+#[test]
+fn a_short_metric_boring_program_stays_metric() {
+    let program = |tool: &str| {
+        format!(
+            "G40 G99\nT0303 ({tool})\nG50 S3000\nG96 S100 M3\nG0 X7. Z2.\nG71 U0.3 R0.2\nG71 P10 Q20 U-0.1 W0.02 F0.05\nN10 G0 X10.\n\
+G1 Z-12.\nX8.\nN20 Z-20.\nG70 P10 Q20 F0.03\nM30\n"
+        )
+    };
+    let (ws, features) = turned_of(&program("BORING BAR D6"));
+    assert_eq!(ws, ["contouring rough inside", "contouring finish inside"], "{features:?}");
+    let bore: Vec<_> = features.iter().filter(|f| f.0 == "diameter" && f.3).collect();
+    assert!(bore.iter().any(|f| (f.1 - 10.0).abs() < 0.01 && (f.2 - 12.0).abs() < 0.01), "{features:?}");
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let a = pipeline::analyze(program("BORING BAR D6").as_bytes(), &d, &Profile::default());
+    assert!(a.diagnostics.iter().all(|d| d.code.as_str() != "interp::units-inferred"), "{:?}", a.diagnostics);
+    // Named by an inch size, the same tool's program is an inch shop's: Ø10 in is 254 mm.
+    let (_, features) = turned_of(&program("T03 - 3/4\" BORING BAR"));
+    assert!(features.iter().any(|f| f.0 == "diameter" && f.3 && (f.1 - 254.0).abs() < 0.01), "{features:?}");
+    // A pipe thread's inch name in a metric shop tells nothing.
+    let (_, features) = turned_of(&program("T03 BORING BAR FOR 1/2\" NPT"));
+    assert!(features.iter().any(|f| f.0 == "diameter" && f.3 && (f.1 - 10.0).abs() < 0.01), "{features:?}");
+}
+
+/// An outside turning tool fed along Z into the stock at Ø20 from Z1 to Z-2, then out across to
+/// Ø40: a diameter and its shoulder, not a face cut out from a bore (the lead-in ends 2 mm
+/// behind the part's front and the tool is no boring bar).
+#[test]
+fn a_turning_tool_fed_in_along_z_then_out_turns_a_diameter() {
+    let program = "G21 G99\nT0101 (OD TURNING)\nG50 S3000\nG96 S200 M3\nG0 X20. Z1.\nG1 Z-2. F0.1\nX40.\nG0 X200. Z200.\nM30\n";
+    let (ws, features) = turned_of(program);
+    assert!(ws.iter().all(|w| !w.starts_with("facing")), "{ws:?}");
+    assert!(
+        features.iter().any(|f| f.0 == "diameter" && !f.3 && (f.1 - 20.0).abs() < 0.01 && (f.2 - 2.0).abs() < 0.01),
+        "{ws:?} {features:?}"
+    );
+}
+
+/// A cut-off blade plunging once from Ø32 to Ø26 on a solid bar turned to Ø30: a groove Ø26 the
+/// blade's 3 mm wide (shops groove with the blade they part with), not a part-off: it reaches
+/// neither the axis nor a bore.
+#[test]
+fn a_cut_off_blade_stopping_in_the_wall_cuts_a_groove() {
+    let program = "G21 G99\nT0101 (OD TURNING)\nG50 S3000\nG96 S200 M3\nG0 X32. Z2.\nG1 X30. Z0. F0.2\nZ-40.\nX34.\nG0 X200. Z200.\n\
+T0505 (CUT OFF BLADE 3MM)\nG96 S100 M3\nG0 X32. Z-20.\nG1 X26. F0.05\nG0 X34.\nG0 X200. Z200.\nM30\n";
+    let (ws, features) = turned_of(program);
+    assert_eq!(ws.last().map(String::as_str), Some("grooving finish"), "{ws:?}");
+    assert!(features.iter().any(|f| f.0 == "groove" && (f.1 - 26.0).abs() < 0.01 && (f.2 - 3.0).abs() < 0.01), "{features:?}");
+}
+
+/// A thin sleeve: roughed outside from X44, bored by a boring bar to Ø39.2, then finished
+/// outside at Ø40 to Z-30 by an OD finishing tool that leaves outwards. Its pass lies within
+/// 0.5 mm of the bore on the radius, but it is the outside's finish: Ø40 outside.
+#[test]
+fn a_thin_sleeves_outside_finish_stays_outside() {
+    let program = "G21 G99\nT0101 (OD ROUGH)\nG50 S2500\nG96 S200 M3\nG0 X46. Z2.\nG1 X44. Z0. F0.25\nZ-32.\nX48.\nG0 Z2.\nX40.6\n\
+G1 Z-32.\nX46.\nG0 X200. Z200.\nT0202 (BORING BAR)\nG96 S150 M3\nG0 X36. Z2.\nG1 X39.2 Z0. F0.15\nZ-32.\nX37.\nG0 Z2.\n\
+G0 X200. Z200.\nT0303 (OD FINISH)\nG96 S250 M3\nG0 X38. Z2.\nG1 X40. Z0. F0.08\nZ-30.\nX44.\nG0 X200. Z200.\nM30\n";
+    let (ws, features) = turned_of(program);
+    assert_eq!(ws.last().map(String::as_str), Some("contouring finish"), "{ws:?}");
+    assert!(features.iter().any(|f| f.0 == "diameter" && !f.3 && (f.1 - 40.0).abs() < 0.01), "{ws:?} {features:?}");
+    assert!(!features.iter().any(|f| f.0 == "diameter" && f.3 && (f.1 - 40.0).abs() < 0.01), "{ws:?} {features:?}");
+    // The same pass by an unnamed tool cut towards the chuck under G41 (the side Fanuc lathes
+    // bore with) and left along Z: a finishing bar's, the bore Ø40.
+    let bar = program
+        .replace("T0303 (OD FINISH)", "T0303")
+        .replace("G0 X38. Z2.\nG1 X40.", "G0 G41 X38. Z2.\nG1 X40.")
+        .replace("Z-30.\nX44.\nG0 X200. Z200.\nM30", "Z-30.\nG0 Z2.\nG40 X200. Z200.\nM30");
+    let (ws, features) = turned_of(&bar);
+    assert_eq!(ws.last().map(String::as_str), Some("contouring finish inside"), "{ws:?} {features:?}");
 }

@@ -14,6 +14,9 @@ impl Interpreter<'_> {
     pub(super) fn comments(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         for r in &block.comments {
             let text = block.text(*r);
+            if !self.inch_tool_comment && inch_tool_size(text) {
+                self.inch_tool_comment = true;
+            }
             let op = match self.dialect.lexical.directive(text) {
                 Some((Directive::Message, m)) => CanonOp::Message(m.to_owned()),
                 Some((Directive::Abort, m)) => {
@@ -78,4 +81,55 @@ impl Interpreter<'_> {
         out.push_str(rest);
         out
     }
+}
+
+/// Whether a comment names a tool by an inch size: a fraction or a decimal followed by `"`
+/// or `IN`/`INCH` (`3/4" BORING BAR`, `1/2 IN DRILL`, `.500" END MILL`) in a comment that
+/// names a tool (`T04`, a bar, drill, mill, insert). Shops that work in inches label their
+/// tools so. Pipe and screw threads keep inch names in metric shops too (`1/2" NPT`, `G 1/4
+/// BSP`, `3/8-16 UNC`): a comment naming a thread tells nothing.
+fn inch_tool_size(text: &str) -> bool {
+    let up = text.to_ascii_uppercase();
+    let words = ["NPT", "BSP", "UNC", "UNF", "THREAD", "PIPE", "TAP"];
+    if words.iter().any(|w| up.contains(w)) {
+        return false;
+    }
+    let tools = ["BAR", "DRILL", "MILL", "INSERT", "TOOL", "BORE", "BORING", "REAMER", "GROOV", "CUTOFF", "CUT OFF"];
+    let tool_number = up.as_bytes().windows(2).any(|w| w[0] == b'T' && w[1].is_ascii_digit());
+    if !tool_number && !tools.iter().any(|w| up.contains(w)) {
+        return false;
+    }
+    let b = up.as_bytes();
+    let mut i = 0;
+    while i < b.len() {
+        if !(b[i].is_ascii_digit() || b[i] == b'.') || (i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'.')) {
+            i += 1;
+            continue;
+        }
+        // A number: digits with at most one point or one slash between digits.
+        let start = i;
+        let (mut slash, mut point, mut digits) = (false, false, 0);
+        while i < b.len() {
+            match b[i] {
+                c if c.is_ascii_digit() => digits += 1,
+                b'.' if !point && !slash => point = true,
+                b'/' if !slash && !point && digits > 0 && b.get(i + 1).is_some_and(u8::is_ascii_digit) => slash = true,
+                _ => break,
+            }
+            i += 1;
+        }
+        if digits == 0 || !(slash || point) || i == start {
+            continue;
+        }
+        let rest = up[i..].trim_start();
+        let unit = rest.starts_with('"')
+            || rest
+                .strip_prefix("INCH")
+                .or_else(|| rest.strip_prefix("IN"))
+                .is_some_and(|r| !r.starts_with(|c: char| c.is_ascii_alphanumeric()));
+        if unit {
+            return true;
+        }
+    }
+    false
 }
