@@ -597,7 +597,18 @@ pub fn compare_with_findings(
     edited: Program<'_>,
     findings: (&[statement::Fault], &[statement::Fault]),
 ) -> Vec<Change> {
-    let (mut changes, pairs) = plan_changes(original.plan, edited.plan);
+    // The lines of reference returns and machine-coordinate moves (`G28 U0. W0.`, `G53`): the
+    // positions their moves reach are the machine's, which the plan takes at work zero, so a
+    // lathe's way off the part stops there ([`turning::retract`]).
+    let returns = |p: &Program<'_>| -> BTreeSet<u32> {
+        if !p.plan.workingsteps.iter().any(|w| w.turning.is_some()) {
+            return BTreeSet::new();
+        }
+        let (stmts, _) = statement::read(p.text, p.dialect);
+        stmts.iter().filter(|s| s.moves & statement::RETURN_MOVE != 0).flat_map(|s| s.line..=s.last).collect()
+    };
+    let (ra, rb) = (returns(&original), returns(&edited));
+    let (mut changes, pairs) = plan_changes(original.plan, edited.plan, (&ra, &rb));
     // Statements compare within one language; a program and its translation, or a CL file
     // and its post, compare by their plans.
     if original.dialect.name == edited.dialect.name {
@@ -715,13 +726,16 @@ pub fn unaccounted(original: Program<'_>, edited: Program<'_>, changes: &[Change
 /// The changes from `original` to `edited` the plans alone show, in workingstep order
 /// (for plans whose programs are not at hand).
 pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
-    plan_changes(original, edited).0
+    plan_changes(original, edited, (&BTreeSet::new(), &BTreeSet::new())).0
 }
+
+/// The source lines of each side's reference returns and machine-coordinate moves.
+type ReturnLines<'r> = (&'r BTreeSet<u32>, &'r BTreeSet<u32>);
 
 /// Aligned workingsteps: positions in the original's and the edited plan's list.
 type Pairs = Vec<(Option<usize>, Option<usize>)>;
 
-fn plan_changes(original: &ProcessPlan, edited: &ProcessPlan) -> (Vec<Change>, Pairs) {
+fn plan_changes(original: &ProcessPlan, edited: &ProcessPlan, returns: ReturnLines<'_>) -> (Vec<Change>, Pairs) {
     let (a, b) = (&original.workingsteps, &edited.workingsteps);
     let u = Fmt { inch: original.units == Some(Units::Inch) };
     let pairs = align(original, edited);
@@ -729,7 +743,7 @@ fn plan_changes(original: &ProcessPlan, edited: &ProcessPlan) -> (Vec<Change>, P
     let mut features_seen = BTreeSet::new();
     for &(i, j) in &pairs {
         match (i, j) {
-            (Some(i), Some(j)) => compare_workingsteps(original, &a[i], edited, &b[j], u, &mut features_seen, &mut out),
+            (Some(i), Some(j)) => compare_workingsteps(original, &a[i], edited, &b[j], u, returns, &mut features_seen, &mut out),
             (Some(i), None) => out.push(Change {
                 kind: ChangeKind::WorkingstepRemoved,
                 workingstep: a[i].index,
@@ -937,6 +951,7 @@ fn compare_workingsteps(
     pb: &ProcessPlan,
     b: &Workingstep,
     u: Fmt,
+    returns: ReturnLines<'_>,
     features_seen: &mut BTreeSet<(u32, u32)>,
     out: &mut Vec<Change>,
 ) {
@@ -964,7 +979,7 @@ fn compare_workingsteps(
     let lathe = a.turning.is_some() && b.turning.is_some();
     if lathe {
         turning::start(a, b, u, &mut push);
-        turning::retract(a, b, u, &mut push);
+        turning::retract(a, b, u, returns, &mut push);
     } else {
         compare_start(a, b, u, &mut push);
     }

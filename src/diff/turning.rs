@@ -41,8 +41,11 @@ pub(super) fn start(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_
 /// out, so that the tool rapids from the last cut straight to its change position, is a path
 /// the tool no longer takes, told where the two ways part. Moves that go nowhere are not in the
 /// plan, so restating where the tool already is changes nothing here. Moves the program writes
-/// itself only, not a cycle's.
-pub(super) fn retract(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) {
+/// itself only, not a cycle's. The way stops at a reference return or a machine-coordinate
+/// move (`returns`, each side's lines): where those go only the machine knows (the plan takes
+/// the reference at work zero, "rapid to Ø0 Z0", a place the program never states), and an
+/// edit of them is told by their statements' rows.
+pub(super) fn retract(a: &Workingstep, b: &Workingstep, u: Fmt, returns: super::ReturnLines<'_>, push: &mut Push<'_>) {
     // A cycle's passes retract where its start point and parameters put them, which their
     // changes say (as for the start point).
     let cycle = |w: &Workingstep| w.turning.as_deref().is_some_and(|t| t.intent.is_some() || t.cycle.is_some());
@@ -61,16 +64,19 @@ pub(super) fn retract(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<
     }
     // The moves that go somewhere (a return written twice, a reference return where the tool
     // already is, are none).
-    let way = |w: &Workingstep| -> Vec<(bool, crate::plan::P3, u32)> {
-        let Some(last_cut) = w.toolpath.iter().rposition(|m| m.phase == crate::plan::Phase::Cut) else { return Vec::new() };
-        w.toolpath
-            .iter()
-            .skip(last_cut + 1)
+    // With whether it was cut short by a reference return.
+    let way = |w: &Workingstep, returns: &BTreeSet<u32>| -> (Vec<(bool, crate::plan::P3, u32)>, bool) {
+        let Some(last_cut) = w.toolpath.iter().rposition(|m| m.phase == crate::plan::Phase::Cut) else { return (Vec::new(), false) };
+        let after = || w.toolpath.iter().skip(last_cut + 1);
+        let cut = after().any(|m| returns.contains(&m.line));
+        let way = after()
+            .take_while(|m| !returns.contains(&m.line))
             .filter(|m| m.phase == crate::plan::Phase::Retract && dist(m.from, m.to) > TOLERANCE)
             .map(|m| (m.kind == crate::plan::MoveKind::Rapid, m.to, m.line))
-            .collect()
+            .collect();
+        (way, cut)
     };
-    let (wa, wb) = (way(a), way(b));
+    let ((wa, cut_a), (wb, cut_b)) = (way(a, returns.0), way(b, returns.1));
     if wa.is_empty() || wb.is_empty() {
         return;
     }
@@ -82,6 +88,11 @@ pub(super) fn retract(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<
     }) else {
         return;
     };
+    // The ways part only where one of them reaches its reference return: the return's own
+    // statement rows say what took its place.
+    if (cut_a && k >= wa.len()) || (cut_b && k >= wb.len()) {
+        return;
+    }
     let text = |w: &[(bool, crate::plan::P3, u32)]| {
         w.iter()
             .map(|(rapid, q, _)| format!("{} Ø{} Z{}", if *rapid { "rapid to" } else { "feed to" }, u.c(2.0 * q[0]), u.c(q[2])))

@@ -625,22 +625,25 @@ fn data_kind(form: DataForm, r: Role) -> (ChangeKind, &'static str) {
 /// A write to a cutting edge's offset data through a system variable array the dictionary
 /// names (`tool-data`: Siemens `$TC_DP4[t,d]=…`, length 2): the tool's length or radius
 /// changed, naming the tool and edge its indices give (`tool BRSONDE, edge IVICA`), with the
-/// variable it came through as written. Not such an array, or not indexed: none.
+/// variable it came through as written. Not such an array, or not indexed by exactly two
+/// non-empty indices, tool and edge (`$TC_DP4[]`, `$TC_DP6[1,2,3]`): none, and the write is
+/// told as the variable it is.
 pub(super) fn tool_data(key: &str, d: &Dialect) -> Option<(ChangeKind, String)> {
     let (name, rest) = key.split_once('[')?;
     let name = name.trim().to_ascii_uppercase();
     let &(_, form) = d.macros.tool_data.iter().find(|(n, _)| *n == name)?;
     let index = rest.trim_end().strip_suffix(']')?;
+    let indices: Vec<&str> = index.split(',').map(str::trim).collect();
+    if indices.len() != 2 || indices.iter().any(|i| i.is_empty()) {
+        return None;
+    }
     let (kind, what) = match form {
         DataForm::ToolRadius => (ChangeKind::CutterCompChanged, "radius"),
         DataForm::ToolRadiusWear => (ChangeKind::CutterCompChanged, "radius wear"),
         DataForm::ToolLengthWear => (ChangeKind::LengthOffsetChanged, "length wear"),
         _ => (ChangeKind::LengthOffsetChanged, "length"),
     };
-    let whose = match index.split_once(',') {
-        Some((t, e)) => format!("tool {}, edge {}", t.trim(), e.trim()),
-        None => format!("tool {}", index.trim()),
-    };
+    let whose = format!("tool {}, edge {}", indices[0], indices[1]);
     // (The names after ` (via ` are kept as written: `ME_TOOL_NUMBER`.)
     Some((kind, format!("tool {what} (via {name}[{}]: {whose})", index.trim())))
 }
@@ -909,5 +912,17 @@ mod tests {
         let z = |v: &str| Token { key: "Z".into(), value: v.into(), text: format!("Z{v}"), sort: Sort::Word };
         assert!(by_variable(&z("#7"), &fanuc) && by_variable(&z("[#1+2.]"), &fanuc));
         assert!(!by_variable(&z("-2."), &fanuc) && !by_variable(&z("[1.+2.]"), &fanuc));
+    }
+
+    #[test]
+    fn tool_data_takes_a_tool_and_an_edge_and_nothing_else() {
+        let d = Registry::shipped().get("siemens").unwrap();
+        let (kind, field) = tool_data("$TC_DP3[5,1]", &d).unwrap();
+        assert_eq!((kind, field.as_str()), (ChangeKind::LengthOffsetChanged, "tool length (via $TC_DP3[5,1]: tool 5, edge 1)"));
+        assert_eq!(tool_data("$TC_DP6[ T , 2 ]", &d).unwrap().1, "tool radius (via $TC_DP6[T , 2]: tool T, edge 2)");
+        // Not a tool and an edge: the variable row.
+        for key in ["$TC_DP4[]", "$TC_DP6[1,2,3]", "$TC_DP4[1]", "$TC_DP4[,1]", "$TC_DP4[1,]", "$TC_DP4"] {
+            assert_eq!(tool_data(key, &d), None, "{key}");
+        }
     }
 }

@@ -320,6 +320,28 @@ fn a_legacy_cycle_name_run_into_its_value_is_read_as_name_and_value() {
     // The Hungarian dialogue's cycle 9 as hyperMILL writes it: `9.1 V.IDO2` is DWELL 2.
     let program = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L Z+10 R0 FMAX M3\n3 CYCL DEF9.0 VARAKOZASI IDO\n4 CYCL DEF9.1 V.IDO2\n5 END PGM T MM\n";
     assert_eq!(errors("heidenhain", program), Vec::<String>::new());
+    // Read as cycle 9's dwell of 2 s.
+    let d = ncplan::dialect::Registry::shipped().get("heidenhain").unwrap();
+    let mut canon: Vec<ncplan::canon::Canon> = Vec::new();
+    ncplan::interp::interpret(program, &d, &Profile::default(), &mut canon);
+    assert!(canon.iter().any(|c| matches!(c.op, ncplan::canon::CanonOp::Dwell(s) if s == 2.0)), "{canon:?}");
+}
+
+/// Only a sub-block the dictionary gives a value splits a name run into a number: cycle 12's
+/// program name `SUB1` and cycle 14's label `LABEL1` are names, not a name and the value 1.
+#[test]
+fn a_program_or_label_name_ending_in_a_digit_is_not_split_into_name_and_value() {
+    let d = ncplan::dialect::Registry::shipped().get("heidenhain").unwrap();
+    let values = |line: &str| {
+        let (mut block, mut diags) = (ncplan::syntax::Block::default(), Vec::new());
+        let mut p = ncplan::syntax::Parser::new(line, &d);
+        assert!(p.next_block(&mut block, &mut diags));
+        block.words.iter().filter(|w| w.role == ncplan::dialect::Role::CycleValue).count()
+    };
+    assert_eq!(values("7 CYCL DEF 12.1 PGM SUB1\n"), 0);
+    assert_eq!(values("8 CYCL DEF 14.1 CONTOUR LABEL1\n"), 0);
+    assert_eq!(values("4 CYCL DEF9.1 V.IDO2\n"), 1);
+    assert_eq!(values("5 CYCL DEF 1.2 DEPTH -15\n"), 1);
 }
 
 #[test]

@@ -362,3 +362,27 @@ fn two_grooves_changed_alike_stay_two_changes() {
     "#]]
     .assert_eq(&rows);
 }
+
+/// The way the tool leaves the part stops at a reference return: where `G28 U0. W0.` goes only
+/// the machine knows (the plan takes it at work zero), so its replacement by a rapid to a
+/// change position is told by the return's own statement rows, never as "rapid to Ø0 Z0",
+/// a place the program does not state. A back-off before it that changes is still told.
+#[test]
+fn a_reference_return_replaced_is_told_by_its_statements_not_as_a_way_to_o0_z0() {
+    let a = "O1003\nG21 G18 G99\nT0101\nG97 S800 M3\nG0 X40. Z2.\nG1 Z-20. F0.2\nX44.\nG0 Z2.\nG28 U0. W0.\nM30\n";
+    let b = a.replace("G28 U0. W0.", "G0 X150. Z100.");
+    let replaced = rows("fanuc_lathe", a, &b);
+    assert!(!replaced.contains("Ø0 Z0"), "{replaced}");
+    expect![[r#"
+        return_move_changed | statement | G28 U0 W0 | 
+          return move: `G28 U0 W0` removed at original line 9
+        statement_changed | statement |  | G0 X150. Z100.
+          `G0 X150. Z100.` added at line 9
+    "#]]
+    .assert_eq(&replaced);
+    // The back-off before the return changed: told, up to the return.
+    let c = a.replace("G0 Z2.\nG28", "G0 Z5.\nG28");
+    let back_off = rows("fanuc_lathe", a, &c);
+    assert!(!back_off.contains("Ø0 Z0"), "{back_off}");
+    assert!(back_off.contains("retract_changed | retract_path | rapid to Ø44 Z2 | rapid to Ø44 Z5"), "{back_off}");
+}

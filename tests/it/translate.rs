@@ -849,6 +849,39 @@ fn a_home_return_is_written_as_one_or_refused_never_as_a_move_to_the_same_number
     }
 }
 
+/// A mill's `G91 G28 Z0.` passes through the tool's own position (incremental zero) and
+/// `G90 G28 Z10.` through Z10 (the words' own mode, LinuxCNC and Fanuc G28); every translation
+/// reads back to the same pass-through point and states no move to Z0 of its own.
+#[test]
+fn a_mill_home_return_passes_through_the_point_its_words_give() {
+    let pass_through = |text: &str, d: &Dialect| {
+        let mut canon: Vec<Canon> = Vec::new();
+        ncplan::interp::interpret(text, d, &Profile::default(), &mut canon);
+        let at = canon.iter().position(|c| matches!(c.op, CanonOp::MachineMove(_))).expect("a reference return");
+        let before = canon[..at].iter().rev().find_map(|c| match c.op {
+            CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => Some([p[0], p[1], p[2]]),
+            _ => None,
+        });
+        let through = canon[at..].iter().find_map(|c| match c.op {
+            CanonOp::StraightTraverse(p) => Some([p[0], p[1], p[2]]),
+            _ => None,
+        });
+        (before.unwrap(), through.unwrap())
+    };
+    let src = "%\nO1000\nG21 G17 G90 G54\nT1 M6\nS1000 M3\nG0 X10. Y20.\nG43 Z5. H1\nG1 Z-1. F100.\nG0 Z5.\nG91 G28 Z0.\nG90\nM30\n%\n";
+    assert_eq!(pass_through(src, &dialect("fanuc")), ([10.0, 20.0, 5.0], [10.0, 20.0, 5.0]));
+    let absolute = src.replace("G91 G28 Z0.\nG90\n", "G28 Z10.\n");
+    assert_eq!(pass_through(&absolute, &dialect("fanuc")), ([10.0, 20.0, 5.0], [10.0, 20.0, 10.0]));
+    for to in MILLS {
+        let (out, diags) = translate(src, &dialect("fanuc"), &dialect(to), "O1000");
+        if diags.iter().any(|d| d.is_error()) {
+            continue;
+        }
+        assert_eq!(pass_through(&out, &dialect(to)), ([10.0, 20.0, 5.0], [10.0, 20.0, 5.0]), "{to}:\n{out}");
+        assert!(!out.lines().any(|l| l.trim_end().ends_with(" Z0.") && !l.contains("G28")), "{to}:\n{out}");
+    }
+}
+
 /// The program end's own resets (the interpreter follows LinuxCNC's M2: G54 and G17 back)
 /// are the source control's behaviour, not statements: a translation does not write them.
 /// Written, they change the machine: a Heidenhain `CYCL DEF 247` at the end makes preset 1

@@ -187,3 +187,91 @@ fn feed_modes_dwells_and_diameters_in_each_targets_words() {
         }
     }
 }
+
+/// The straight moves of `program` read in `dialect`, in the canon's frame (X as the radius),
+/// each with whether it is a leg of a reference return, and the position each return left
+/// from with its pass-through point.
+#[allow(clippy::type_complexity)]
+fn moves_and_returns(dialect_name: &str, program: &str) -> (Vec<([f64; 3], bool)>, Vec<([f64; 3], [f64; 3])>) {
+    use ncplan::canon::{Canon, CanonOp, MachineTarget};
+    let mut canon: Vec<Canon> = Vec::new();
+    let diags = ncplan::interp::interpret(program, &dialect(dialect_name), &Profile::default(), &mut canon);
+    assert!(!diags.iter().any(Diagnostic::is_error), "{dialect_name}: {diags:?}");
+    let (mut moves, mut returns) = (Vec::new(), Vec::new());
+    let (mut at, mut legs, mut from) = ([0.0; 3], 0, None);
+    for c in &canon {
+        match &c.op {
+            CanonOp::MachineMove(m) if matches!(m.target, MachineTarget::Reference(_)) => {
+                (legs, from) = (m.moves(), Some(at));
+            }
+            CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => {
+                let p = [p[0], p[1], p[2]];
+                if let Some(f) = from.take() {
+                    returns.push((f, p));
+                }
+                moves.push((p, legs > 0));
+                legs = legs.saturating_sub(1);
+                at = p;
+            }
+            _ => {}
+        }
+    }
+    (moves, returns)
+}
+
+/// `G28 U0. W0.`, the return home every Fanuc and Haas lathe program ends with: U and W are
+/// X and Z incremental whatever G90/G91 says (Fanuc 0i-TF and Haas lathe operator's manuals,
+/// G28: the axes go through the intermediate point the words give, here the tool's own
+/// position). Read as absolute it passed through X0 Z0, and a translation wrote that as a
+/// rapid to the part's face centre before the G28.
+#[test]
+fn a_lathe_home_return_by_u_and_w_passes_through_where_the_tool_is_never_x0_z0() {
+    let program = "%\nO0001\nG21 G99\nT0101\nG97 S800 M3\nG0 X44. Z2.\nG1 Z-20. F0.2\nG0 X50.\nG28 U0. W0.\nM30\n%\n";
+    for from in ["fanuc_lathe", "haas_lathe"] {
+        let (_, returns) = moves_and_returns(from, program);
+        // X50. is a diameter: the canon holds the radius 25.
+        assert_eq!(returns, vec![([25.0, 0.0, -20.0], [25.0, 0.0, -20.0])], "{from}");
+    }
+    // A U or W that is not zero passes through the point that far from the tool.
+    let (_, returns) = moves_and_returns("fanuc_lathe", &program.replace("G28 U0. W0.", "G28 U10. W5."));
+    assert_eq!(returns, vec![([25.0, 0.0, -20.0], [30.0, 0.0, -15.0])]);
+    // X and Z stated absolute go through that point, as the control does.
+    let (_, returns) = moves_and_returns("fanuc_lathe", &program.replace("G28 U0. W0.", "G28 X60. Z10."));
+    assert_eq!(returns, vec![([25.0, 0.0, -20.0], [30.0, 0.0, 10.0])]);
+
+    let (source, returns) = moves_and_returns("fanuc_lathe", program);
+    assert_eq!(returns.len(), 1);
+    for to in LATHES.iter().filter(|t| **t != "fanuc_lathe") {
+        let (out, diags) = translate_checked(program, "fanuc_lathe", to, "O0001");
+        // No block but the return itself names X0 and Z0: no rapid to the face centre.
+        assert!(!out.lines().any(|l| !l.contains("G28") && l.contains("X0") && l.contains("Z0")), "{to} wrote a move to X0 Z0:\n{out}");
+        // A target with no return through a point refuses it, naming it (Okuma and Siemens).
+        if let Some(e) = diags.iter().find(|d| d.is_error() && d.message.contains("return to reference position")) {
+            assert_eq!(e.code, Code::PostUnwritable, "{to}: {e:?}");
+            assert!(e.message.contains("return to reference position 1 in X Z"), "{to}: {}", e.message);
+            continue;
+        }
+        assert!(!diags.iter().any(Diagnostic::is_error), "{to}: {diags:?}\n{out}");
+        // Read back: the same moves, the return through the same point.
+        let (back, back_returns) = moves_and_returns(to, &out);
+        assert_eq!(back_returns, returns, "{to}:\n{out}");
+        let near = |a: [f64; 3], b: [f64; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-3);
+        let stated = |m: &[([f64; 3], bool)]| m.iter().filter(|(_, leg)| !leg).map(|(p, _)| *p).collect::<Vec<_>>();
+        let (a, b) = (stated(&source), stated(&back));
+        assert!(a.len() == b.len() && a.iter().zip(&b).all(|(p, q)| near(*p, *q)), "{to}: {a:?} became {b:?}\n{out}");
+        assert_eq!(back.len(), source.len(), "{to}:\n{out}");
+    }
+}
+
+/// The motion check refuses a lathe translation that passes through X0 Z0 on its way home.
+#[test]
+fn the_motion_check_refuses_a_lathe_return_through_the_face_centre() {
+    let program = "%\nO0001\nG21 G99\nT0101\nG97 S800 M3\nG0 X44. Z2.\nG1 Z-20. F0.2\nG0 X50.\nG28 U0. W0.\nM30\n%\n";
+    let (out, diags) = translate_checked(program, "fanuc_lathe", "fanuc_lathe_b", "O0001");
+    assert!(!diags.iter().any(Diagnostic::is_error), "{diags:?}");
+    let planted = out.replacen("G91 G28", "G0 X0. Z0.\nG91 G28", 1);
+    assert_ne!(planted, out, "{out}");
+    let found =
+        pipeline::check_translation(program.into(), &dialect("fanuc_lathe"), &planted, &dialect("fanuc_lathe_b"), &Profile::default(), &[]);
+    assert!(found.iter().any(|d| d.code == Code::PostMotionDiffers), "{found:?}\n{planted}");
+}

@@ -13,6 +13,7 @@ use crate::canon::{CanonOp, CanonSink, DistanceMode, MachineMove, MachineTarget,
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, DataForm, Meaning, Role};
 use crate::interp::{Interpreter, State, rotate};
+use crate::syntax::WordMode;
 use crate::text::TextRange;
 
 impl Interpreter<'_> {
@@ -292,17 +293,24 @@ impl Interpreter<'_> {
         // #5169/#5189; 0 unless set): `G28 W0` homes the quill alone, `G28` all axes with it.
         let quill = self.slots[Role::W as usize].filter(|_| self.quill_moves_tool());
         let any = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some()) || quill.is_some();
+        // The intermediate point's words are incremental per word too, as a move's are: a
+        // lathe's `U`/`W` are incremental X/Z whatever G90/G91 says (Fanuc 0i-TF, Haas lathe
+        // manual: `G28 U0 W0` returns through the current position, never through X0 Z0).
         let mut mid = self.st.pos;
         for (i, &role) in Role::AXES.iter().enumerate() {
             if let Some(v) = self.slot(role) {
-                mid[i] = if self.st.distance == DistanceMode::Incremental { self.st.pos[i] + v } else { v };
+                mid[i] = if self.incremental(role) { self.st.pos[i] + v } else { v };
             }
         }
         let axes = std::array::from_fn(|i| (!any || self.slots[Role::AXES[i] as usize].is_some()).then_some(0.0));
         let target = MachineTarget::Reference(if first { 1 } else { 2 });
         self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target, axes })));
         if let Some(w) = quill {
-            let incremental = self.st.distance == DistanceMode::Incremental;
+            let incremental = match w.mode {
+                WordMode::Modal => self.st.distance == DistanceMode::Incremental,
+                WordMode::Absolute => false,
+                WordMode::Incremental => true,
+            };
             self.st.quill = if incremental { self.st.quill + w.value } else { w.value };
         }
         self.emit(sink, CanonOp::StraightTraverse(mid));

@@ -23,11 +23,13 @@ impl Interpreter<'_> {
             // Where the dictionary says so (Fagor `T2.2`), the digits after the point name the
             // offset: the tool is selected with that offset. The word's text decides, not its
             // value: `T2.0` and `T2.` are tool 2 (the value has no fraction, yet the point is
-            // there), never Fanuc's two-digit split of `T0202`, which a word without a point
-            // still takes. `T2.0` names offset 0, no offset applied (as the 8055's `D0` applies
-            // none: programming manual, "Tool number (T) and tool offset (D)"); `T2.` names no
-            // offset, so the tool's own is taken (as the 8055's `T3` alone takes "the offset
-            // associated with that tool", the same section).
+            // there). A word without a point goes on to `tool_word`, split into tool and offset
+            // only where the dictionary also gives `offset-digits` (Fagor's has none: `T2` is
+            // tool 2 with the offset its table associates, never tool 0 offset 2). `T2.0` names
+            // offset 0, no offset applied (as the 8055's `D0` applies none: programming manual,
+            // "Tool number (T) and tool offset (D)"); `T2.` names no offset, so the tool's own
+            // is taken (as the 8055's `T3` alone takes "the offset associated with that tool",
+            // the same section).
             let offset_suffix = self.dialect.addresses.iter().any(|a| a.role == Role::T && a.offset_suffix);
             if offset_suffix && t >= 0.0 {
                 let range = self.slots[Role::T as usize].map_or(block.range, |s| s.range);

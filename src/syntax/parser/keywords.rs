@@ -182,8 +182,20 @@ impl Lexer<'_, '_> {
 
     /// Where the value starts in a name run into it (`V.IDO2` from `from` to `end`): a name
     /// of two or more letters (dots between), not an address of the dictionary, then a bare
-    /// number that ends the line. `None` for anything else.
+    /// number that ends the line, in the sub-block of a legacy cycle the dictionary gives a
+    /// value there (`9.1`: cycle 9's dwell; `1.2`: cycle 1's depth), whatever the name's
+    /// language. `None` for anything else: `CYCL DEF 12.1 PGM SUB1` and `14.1 CONTOUR LABEL1`
+    /// name a program and a label, no value.
     fn glued_name_value(&self, from: usize, end: usize) -> Option<usize> {
+        let number = self.block.words.iter().rev().find(|w| w.role == Role::CycleNumber).and_then(|w| match w.value {
+            Value::Number { value, .. } => Some(value),
+            _ => None,
+        })?;
+        let sub = (number.fract() * 10.0).round();
+        let cycle = &self.dialect.cycles[self.dialect.cycle(&format!("{}", number.trunc()))?];
+        if sub < 1.0 || !cycle.args.iter().any(|a| a.sub.is_some_and(|s| f64::from(s) == sub)) {
+            return None;
+        }
         let word = &self.b[from..end];
         let split = word.iter().position(u8::is_ascii_digit)?;
         let name = &word[..split];
