@@ -2166,7 +2166,7 @@ impl<'a> Interpreter<'a> {
                 None => {
                     let name = eval::normalised(block.text(name));
                     match index {
-                        // `A[R1] = 5` with R1 set outside this file: which element is written
+                        // `WERT[R1] = 5` with R1 set outside this file: which element is written
                         // is not known here, as for `#[#111+5]` above; the write is not
                         // followed (it must not land on a key a later read through another
                         // unknown index finds).
