@@ -168,8 +168,8 @@ impl Interpreter<'_> {
 
     /// The cycle's passes: to the contour's start over the set-up clearance, then at each depth
     /// down to the milling depth (`Q10` deeper each) a plunge at `Q11` and the contour at
-    /// `Q12`, back up to the clearance between passes and at the end. Each move carries its
-    /// radial tool axis (`cylinder_axis`).
+    /// `Q12`, back up to the clearance between passes and at the end. The plan gives each move
+    /// its radial tool axis from the cylinder in force (`Setting::CylinderWrap`).
     fn cylinder_passes(&mut self, job: &CylinderSurface, start: [f64; 2], moves: &[&CanonOp], sink: &mut dyn CanonSink) {
         let over = job.radius + job.clear;
         let mut depths = Vec::new();
@@ -200,7 +200,6 @@ impl Interpreter<'_> {
             let side = |c: [f64; 2], k: f64| [c[0] + k * n[0], c[1] + k * n[1]];
             for d in depths {
                 let z = job.radius - d;
-                self.cylinder_axis(start[1], sink);
                 self.go_to(sink, to(start[0], start[1], over), false);
                 self.feed_of_cycle(job.feeds.0, sink);
                 self.go_to(sink, to(start[0], start[1], z), true);
@@ -212,15 +211,11 @@ impl Interpreter<'_> {
                 let a = side(start, -1.0);
                 self.go_to(sink, to(a[0], a[1], z), true);
                 let b = side(end, -1.0);
-                self.cylinder_axis(b[1], sink);
                 self.go_to(sink, to(b[0], b[1], z), true);
                 let c = side(end, 1.0);
-                self.cylinder_axis(c[1], sink);
                 self.arc_to(sink, c, end, z, true);
                 let e = side(start, 1.0);
-                self.cylinder_axis(e[1], sink);
                 self.go_to(sink, to(e[0], e[1], z), true);
-                self.cylinder_axis(a[1], sink);
                 self.arc_to(sink, a, start, z, true);
                 self.emit(sink, CanonOp::Setting(Setting::CutterComp(None)));
                 let q = self.st.pos;
@@ -230,7 +225,6 @@ impl Interpreter<'_> {
         }
         for d in depths {
             let z = job.radius - d;
-            self.cylinder_axis(start[1], sink);
             self.go_to(sink, to(start[0], start[1], over), false);
             self.feed_of_cycle(job.feeds.0, sink);
             self.go_to(sink, to(start[0], start[1], z), true);
@@ -238,11 +232,9 @@ impl Interpreter<'_> {
             for op in moves {
                 match **op {
                     CanonOp::StraightTraverse(t) | CanonOp::StraightFeed(t) => {
-                        self.cylinder_axis(t[1], sink);
                         self.go_to(sink, to(t[0], t[1], z), true);
                     }
                     CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, abc, .. } => {
-                        self.cylinder_axis(second_end, sink);
                         let arc = CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end: z, abc };
                         self.emit(sink, arc);
                         self.st.pos = to(first_end, second_end, z);

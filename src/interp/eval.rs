@@ -710,7 +710,8 @@ pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError
         }
         Expr::NamedIndex(r, index) => {
             let i = eval(block, index, params)?;
-            params.get_named(&format!("{}[{}]", normalised(block.text(r)), i))?
+            // `WERT[R1]` with R1 unknown: which element is read is unknown, and so is its value.
+            if is_unknown(i) { UNKNOWN } else { params.get_named(&format!("{}[{}]", normalised(block.text(r)), i))? }
         }
         Expr::Unary(Func::Exists, inner) => match block.exprs.get(inner as usize) {
             Some(Expr::Named(r)) => f64::from(u8::from(match resolved(block, inner) {

@@ -378,8 +378,10 @@ impl Interpreter<'_> {
     /// developed length (the radius times C in radians), Z the radius the tool cuts at. The
     /// cylinder goes first as a `CylinderWrap` marker, so that the plan wraps what is cut
     /// there round it (`plan::Setup::wrapped_at`: a feature placed where it begins, at its own
-    /// angle with its radial axis), and each move carries its radial tool axis
-    /// (`cylinder_axis`) [the toolpath itself stays on the developed surface].
+    /// angle with its radial axis, and each move's radial tool axis taken from where it ends,
+    /// `Recoverer::wrap_axis`) [the toolpath itself stays on the developed surface]. The
+    /// radial axis is not sent as `ToolAxis` markers: the moves are the developed surface's as
+    /// the program writes them, not a tool axis indexed by rotary axes.
     pub(super) fn cylinder_mode(&mut self, radius: Option<f64>, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let p = self.st.pos;
         match (radius, self.st.cylinder) {
@@ -394,7 +396,6 @@ impl Interpreter<'_> {
                 self.emit(sink, CanonOp::SelectPlane(Plane::Xy));
                 self.emit(sink, CanonOp::Setting(Setting::CylinderWrap(Some(radius))));
                 self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
-                self.cylinder_axis(0.0, sink);
                 // The cylinder's surface is the top the slot or profile is cut from.
                 self.emit(sink, CanonOp::Setting(Setting::CycleSurface(radius)));
                 // The tool where it is, in the plane's coordinates: recovery carries a lathe
@@ -416,7 +417,6 @@ impl Interpreter<'_> {
                 self.emit(sink, CanonOp::Setting(Setting::MillCycle(None)));
                 self.emit(sink, CanonOp::Setting(Setting::CylinderWrap(None)));
                 self.emit(sink, CanonOp::WorkPlane(None));
-                self.cylinder_axis(0.0, sink);
                 self.emit(sink, CanonOp::SelectPlane(plane));
             }
             // A new radius while on: the same developed surface, measured anew.
@@ -452,30 +452,8 @@ impl Interpreter<'_> {
         self.st.cylinder = Some(cyl);
         self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
         self.emit(sink, CanonOp::Setting(Setting::CycleSurface(cyl.radius)));
-        self.cylinder_axis(0.0, sink);
         self.go_to(sink, [t[0], 0.0, t[2], t[3], t[4], t[5]], false);
         true
-    }
-
-    /// Under cylindrical interpolation, the tool axis where a move on the developed surface
-    /// ends at length `y` round the cylinder from where the plane is laid: the driven tool
-    /// stands radial (Fanuc 0i-TF / 30i cylindrical interpolation, SINUMERIK `TRACYL`: the
-    /// tool's axis is square to the cylinder), so in the plane's coordinates it is turned
-    /// about the plane's X by `y` over the radius. Sent as a `ToolAxis` marker before the move
-    /// where it changes, and back to the plane's Z where the plane is laid anew or the mode ends.
-    pub(super) fn cylinder_axis(&mut self, y: f64, sink: &mut dyn CanonSink) {
-        let axis = match self.st.cylinder {
-            Some(cyl) if cyl.radius > 1e-9 => {
-                let (s, c) = (y / cyl.radius).sin_cos();
-                let clean = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
-                [0.0, clean(s), clean(c)]
-            }
-            _ => [0.0, 0.0, 1.0],
-        };
-        if axis != self.tool_axis {
-            self.tool_axis = axis;
-            self.emit(sink, CanonOp::ToolAxis(axis));
-        }
     }
 
     /// Under cylindrical interpolation, the words in the developed surface's plane

@@ -2196,6 +2196,16 @@ impl<'a> Interpreter<'a> {
                 None => {
                     let name = eval::normalised(block.text(name));
                     match index {
+                        // `WERT[R1] = 5` with R1 set outside this file: which element is written
+                        // is not known here, as for `#[#111+5]` above; the write is not
+                        // followed (it must not land on a key a later read through another
+                        // unknown index finds).
+                        Some(i) if eval::is_unknown(i) => {
+                            let msg = format!(
+                                "the element of `{name}` this assigns is numbered by a value set outside this file: which one is written is not known here, and the analysis does not follow the write"
+                            );
+                            diags.push(Diagnostic::new(Code::UnknownValue, range, msg));
+                        }
                         Some(i) if self.dialect.macros.system_element(&name, i) == Some(SystemVar::Alarm) => {
                             self.alarm(block, 0.0, value, range, diags)
                         }

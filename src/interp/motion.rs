@@ -241,9 +241,6 @@ impl Interpreter<'_> {
                 if self.st.cylinder.is_some() && self.cylinder_rapid(t, sink) {
                     return;
                 }
-                if self.st.cylinder.is_some() {
-                    self.cylinder_axis(t[1], sink);
-                }
                 self.emit(sink, CanonOp::StraightTraverse(t));
                 self.st.pos = t;
             }
@@ -265,9 +262,6 @@ impl Interpreter<'_> {
                     }
                 }
                 self.note_tangent(t);
-                if self.st.cylinder.is_some() {
-                    self.cylinder_axis(t[1], sink);
-                }
                 self.emit(sink, CanonOp::StraightFeed(t));
                 self.st.pos = t;
             }
@@ -276,10 +270,6 @@ impl Interpreter<'_> {
                 // An arc about a pole given in another plane (`CC Y Z`, then `C Y Z DR+`) runs
                 // in the pole's plane; the active plane is back after it.
                 let pole_plane = self.st.pole_plane.filter(|p| def.meaning == Meaning::ArcPole && *p != self.st.plane);
-                if self.st.cylinder.is_some() {
-                    let t = self.target();
-                    self.cylinder_axis(t[1], sink);
-                }
                 let active = self.st.plane;
                 if let Some(p) = pole_plane {
                     self.st.plane = p;

@@ -1240,7 +1240,13 @@ impl<'p> Recovery<'p> {
             CanonOp::CycleEnd => self.in_cycle = None,
             // Diameter or radius mode: only a lathe has them.
             CanonOp::Setting(Setting::DiameterMode(_)) => self.lathe = true,
-            CanonOp::Setting(Setting::CylinderWrap(r)) => self.wrap = r.map(|r| 2.0 * self.mm(r)),
+            CanonOp::Setting(Setting::CylinderWrap(r)) => {
+                self.wrap = r.map(|r| 2.0 * self.mm(r));
+                // Off the cylinder the driven tool's axis is the plane's Z again.
+                if self.wrap.is_none() {
+                    self.tool_axis = [0.0, 0.0, 1.0];
+                }
+            }
             // A milling cycle is one operation: a workingstep of its own.
             CanonOp::Setting(s @ (Setting::MillCycle(_) | Setting::HoleMilled(_) | Setting::CycleSurface(_))) => self.mill_cycle_marker(s),
             CanonOp::Turning(t) => self.turning_begins(t),
@@ -1254,6 +1260,7 @@ impl<'p> Recovery<'p> {
             CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => self.positioning(p, c),
             // A spline is followed by its chord: the plan keeps where it cuts to.
             CanonOp::StraightFeed(p) | CanonOp::NurbsFeed { end: p, .. } => {
+                self.wrap_axis(self.mm(p[1]));
                 let abc = [p[3], p[4], p[5]];
                 let c_before = self.abc[2];
                 self.abc[2] = p[5];
@@ -1457,16 +1464,32 @@ impl<'p> Recovery<'p> {
         }
     }
 
+    /// Under cylindrical interpolation (`wrap`), the tool axis where a move on the developed
+    /// surface ends `y` mm round the cylinder from where its plane is laid: the driven tool
+    /// stands radial (Fanuc 0i-TF / 30i cylindrical interpolation G07.1, SINUMERIK `TRACYL`:
+    /// the tool's axis is square to the cylinder), so in the plane's coordinates it is turned
+    /// about the plane's X by `y` over the radius. Taken from the move's own end (the tool
+    /// centre the canon moves, with any cutter radius offset in it), not stated in the canon:
+    /// the canon's moves stay those of the developed surface the program writes, which a post
+    /// writes as they stand.
+    fn wrap_axis(&mut self, y: f64) {
+        let Some(d) = self.wrap.filter(|d| *d > 1e-9) else { return };
+        let (s, c) = (2.0 * y / d).sin_cos();
+        let clean = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
+        self.tool_axis = [0.0, clean(s), clean(c)];
+    }
+
     /// An arc in the selected plane, its centre and end in millimetres.
     fn arc_feed(&mut self, c: &Canon) {
         let CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } = &c.op else { return };
-        self.abc = *abc;
-        self.moved_axis = self.tool_axis;
         let (a0, a1, n) = self.plane.axes();
         let mut to = [0.0; 3];
         to[a0] = self.mm(*first_end);
         to[a1] = self.mm(*second_end);
         to[n] = self.mm(*axis_end);
+        self.wrap_axis(to[1]);
+        self.abc = *abc;
+        self.moved_axis = self.tool_axis;
         let mut center = self.pos;
         center[a0] = self.mm(*first_axis);
         center[a1] = self.mm(*second_axis);
@@ -1501,6 +1524,7 @@ impl<'p> Recovery<'p> {
     /// protected positioning moves of a probing job, the `G1 Z-.25 F..` down to the probing
     /// height, cut nothing). Inside a canned cycle, the cycle's own rapid.
     fn positioning(&mut self, p: &[f64; 6], c: &Canon) {
+        self.wrap_axis(self.mm(p[1]));
         self.abc = [p[3], p[4], p[5]];
         self.moved_axis = self.tool_axis;
         let to = self.live_point([self.mm(p[0]), self.mm(p[1]), self.mm(p[2])]);

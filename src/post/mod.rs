@@ -2061,7 +2061,19 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 );
                 self.note(Code::PostUnwritable, canon, "mill-cycle", what);
             }
-            CanonOp::Setting(Setting::MillCycle(None) | Setting::CycleSurface(_) | Setting::CylinderWrap(_)) | CanonOp::TurningEnd => {}
+            // Cylindrical interpolation (Fanuc G07.1/G107, SINUMERIK TRACYL): the canon keeps
+            // its moves on the developed surface's plane laid tangent to the cylinder, which
+            // the target writes as a tilted plane; no output rules write the mode itself, so
+            // the written program cuts on that flat plane where the source's cut wraps round
+            // the cylinder (the moves read back are the same, the part is not).
+            CanonOp::Setting(Setting::CylinderWrap(Some(r))) => {
+                let what = format!(
+                    "cylindrical interpolation (radius {}) is not written: the target's output rules have no cylinder mode, so the moves on the developed surface would be written on a flat plane laid tangent to the cylinder, cutting there instead of round the cylinder",
+                    crate::text::num(*r)
+                );
+                self.note(Code::PostUnwritable, canon, "cylinder", what);
+            }
+            CanonOp::Setting(Setting::MillCycle(None) | Setting::CycleSurface(_) | Setting::CylinderWrap(None)) | CanonOp::TurningEnd => {}
             // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),
         }

@@ -1707,3 +1707,55 @@ fn a_heidenhain_cylinder_surface_cycle_without_its_contour_is_skipped_with_a_fin
         assert!(a.plan.features.is_empty(), "{:#?}", a.plan.features);
     }
 }
+
+/// The radial tool axis under cylindrical interpolation is the plan's (taken from each move's
+/// end), not a `ToolAxis` marker in the canon, which a post reads as the rotary axes' indexing
+/// ("the tool axis tilts to ..., which the rotary axes written do not give"). What a
+/// translation cannot write is the mode itself: no target's output rules write G07.1 or
+/// TRACYL, and the developed surface's moves written on its tangent plane would cut flat
+/// (read back, the same moves make a slot 7 deep under X30, not 2 deep round the Ø50
+/// cylinder). So the translation says that, once, at the mode's block, and nothing of the tool
+/// axis; the TRACYL slot also says its second spindle (`S2=`, `M2=3`), the target's own limit.
+#[test]
+fn a_cut_on_the_cylinder_translates_saying_the_mode_not_the_tool_axis() {
+    let root = crate::root().join("tests/programs/tilt");
+    let cases = [("fanuc_lathe_g071_cylinder_slot.nc", "fanuc_lathe", 17), ("siemens_lathe_tracyl_slot.mpf", "siemens", 15)];
+    for (name, from, line) in cases {
+        let text = std::fs::read_to_string(root.join(name)).unwrap();
+        let dialect = Registry::shipped().get(from).unwrap();
+        let a = pipeline::analyze(text.as_bytes(), &dialect, &Profile::default());
+        assert!(a.canon.iter().all(|c| !matches!(c.op, ncplan::canon::CanonOp::ToolAxis(_))), "{name}: no tool axis marker in the canon");
+        let target = Registry::shipped().get("siemens").unwrap();
+        let (_, diags) = crate::translate::translate(&text, &dialect, &target, name);
+        assert!(diags.iter().all(|d| !d.message.contains("the tool axis tilts")), "{name}: {diags:?}");
+        let errors: Vec<&ncplan::diag::Diagnostic> =
+            diags.iter().filter(|d| d.is_error() && !d.message.contains("spindle 2") && !d.message.contains("`Spindle`")).collect();
+        assert_eq!(errors.len(), 1, "{name}: {diags:?}");
+        assert_eq!(errors[0].code.as_str(), "post::unwritable");
+        assert!(errors[0].message.starts_with("cylindrical interpolation (radius 25) is not written"), "{:?}", errors[0]);
+        let at = text[..errors[0].range.start as usize].matches('\n').count() + 1;
+        assert_eq!(at, line, "{name}: {:?}", errors[0]);
+    }
+}
+
+/// Under a cutter radius offset the radial tool axis is the tool centre's: the rapid to Y20
+/// clear of the Ø50 cylinder lays its developed surface anew there (`cylinder_rapid`), and a
+/// cut along the cylinder (-Z) on that line under G41 with an 8 mm tool (radius 4) runs
+/// (line 8) with its centre 4 to the left of the programmed line (+Y in the plane), so its
+/// axis stands at 4/25 rad from the plane's Z, not along it as the programmed line's would.
+#[test]
+fn the_radial_tool_axis_under_a_radius_offset_is_the_tool_centres() {
+    let text = "G18 G90 G54 DIAMON\nT5 D1\nG94 G0 X60 Z-10\nTRACYL(50)\nG19 G0 Y20\nG1 X46 F100\nG41 Z-20\nZ-40\nG40 Z-50\nG0 X60\nTRAFOOF\nG18\nM30\n";
+    let dialect = Registry::shipped().get("siemens").unwrap();
+    let mut profile = Profile::default();
+    profile.tools.insert(5, ncplan::interp::ToolData { diameter: Some(8.0), ..Default::default() });
+    let plan = pipeline::analyze(text.as_bytes(), &dialect, &profile).plan;
+    let (ws, i) = plan
+        .workingsteps
+        .iter()
+        .find_map(|ws| (0..ws.toolpath.len()).find(|&i| ws.toolpath.get(i).is_some_and(|m| m.line == 8)).map(|i| (ws, i)))
+        .expect("the move at line 8");
+    let axis = ws.toolpath.axis_at(i);
+    let want = 4.0_f64 / 25.0;
+    assert!((axis[1] - want.sin()).abs() < 1e-6 && (axis[2] - want.cos()).abs() < 1e-6, "{axis:?}");
+}

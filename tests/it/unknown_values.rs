@@ -653,3 +653,27 @@ N90 M30
     );
     assert!(said(&diags, "flow::repeat-budget").is_empty(), "{diags:?}");
 }
+
+/// A Siemens array element numbered by a value from outside the file (`WERT[R1]` with R1 the
+/// tool number `$P_TOOLNO`): which element is written is not known, so the write is not
+/// followed (a note, as for `#[#111+5]`), and a later read through an unknown index is itself
+/// unknown, not the value of the element "NaN" the first write would have made. An element
+/// numbered by a known value is written and read as before.
+#[test]
+fn an_array_element_at_an_unknown_index_is_neither_written_nor_read_back() {
+    let program = "DEF REAL WERT[4]\nR1=$P_TOOLNO\nWERT[R1]=7\nWERT[2]=3\nR2=WERT[R1]\nG1 X=WERT[2] F100\nG1 Y=R2\nM30\n";
+    let (moves, diags) = run("siemens", program);
+    assert_eq!(errors(&diags), Vec::<String>::new(), "{diags:?}");
+    let notes = said(&diags, "interp::unknown-value");
+    assert!(
+        notes
+            .iter()
+            .any(|m| m.to_ascii_uppercase().starts_with("THE ELEMENT OF `WERT` THIS ASSIGNS IS NUMBERED BY A VALUE SET OUTSIDE THIS FILE")),
+        "{notes:?}"
+    );
+    let feeds: Vec<&String> = moves.iter().filter(|m| m.contains("STRAIGHT_FEED")).collect();
+    assert!(feeds.first().is_some_and(|m| m.contains("(3.0000,")), "{moves:?}");
+    // `Y=R2`: R2 read WERT[R1] through the unknown index, so it is unknown (the move keeps Y, a
+    // note), not 7.
+    assert!(feeds.iter().all(|m| !m.contains("7.0000")), "{moves:?}");
+}
