@@ -693,7 +693,7 @@ impl Lexer<'_, '_> {
     fn reads_operator_input(&self) -> bool {
         self.block.words.iter().any(|w| {
             w.letter == b'M'
-                && matches!(w.value, Value::Number { value, .. } if value >= 0.0 && value < 100_000.0
+                && matches!(w.value, Value::Number { value, .. } if (0.0..100_000.0).contains(&value)
                     && self.dialect.code('M', (value * 10.0).round() as u32).is_some_and(|d| d.meaning == Meaning::OperatorInput))
         })
     }
