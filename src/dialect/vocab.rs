@@ -541,6 +541,10 @@ vocab! {
         Stock = "stock",
         /// Machine-specific function the interpreter records but does not model.
         Other = "other",
+        /// Waits for the operator to type a number and stores it in the variable written after
+        /// the code (Centroid CNC12 `M224 #111 "prompt"`, `M225 #100 "text"`): the variable
+        /// becomes unknown, as a value only the run knows; otherwise recorded as `other`.
+        OperatorInput = "operator-input",
         /// Writes text to a printer, a file or the screen (Heidenhain `FN 15: PRINT`):
         /// nothing the machine does.
         Output = "output",

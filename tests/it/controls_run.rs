@@ -477,3 +477,37 @@ fn heidenhain_string_and_local_parameters_are_statements() {
     let (_, diags) = crate::moves_and_findings("heidenhain", retained, &Profile::default());
     assert!(diags.iter().any(|d| d.message.contains("QR1, which is set outside")), "{diags:?}");
 }
+
+fn findings(dialect: &str, program: &str) -> Vec<String> {
+    let (_, diags) = crate::moves_and_findings(dialect, program, &Profile::default());
+    diags.iter().map(|d| d.code.as_str().to_owned()).collect()
+}
+
+/// Centroid CNC12 `M224 #111 "prompt"` waits for the operator's number and stores it in #111
+/// (CNC12 manual, chapter 13): a menu that asks again until a known choice is typed (Avid's
+/// utilsrouter.mac) is read with #111 unknown: its choice is a condition not known here, a
+/// warning, never an endless loop.
+#[test]
+fn centroid_m224_menu_loop_waits_for_the_operator() {
+    let program = "G90 F10\nN1\nM224 #111 \"Which?\\n#)1: one\\n#)2: two\\n#)\" #111\nIF #111 EQ 1 THEN GOTO 100 ELSE\nIF #111 EQ 2 THEN GOTO 200 ELSE\nGOTO 1\nN100 G1 X1\nGOTO 1000\nN200 G1 X2\nN1000\nM30\n";
+    assert_eq!(errors("centroid", program), Vec::<String>::new());
+    assert!(findings("centroid", program).iter().any(|c| c == "flow::unknown-condition"), "{:?}", findings("centroid", program));
+    // The same loop with #111 set by the program and nothing asked still never ends.
+    let program = "G90 F10\n#111=3\nN1\nIF #111 EQ 1 THEN GOTO 100 ELSE\nGOTO 1\nN100 G1 X1\nM30\n";
+    assert!(errors("centroid", program).iter().any(|e| e.starts_with("flow::loop-limit")), "{:?}", errors("centroid", program));
+}
+
+/// M225's variable is how long its text shows (read, not written): #5 keeps its value.
+#[test]
+fn centroid_m225_reads_its_variable() {
+    let program = "G90 F10\n#5=2\nM225 #5 \"Wait\"\nIF #5 EQ 2 THEN GOTO 10\nG1 X1\nN10 G1 X3\nM30\n";
+    assert_eq!(xs("centroid", program), vec!["3.0000"]);
+}
+
+/// CNC12 has no LinuxCNC `M61 Q` (set the current tool): an M61 the builder's macro runs
+/// needs no Q word.
+#[test]
+fn centroid_m61_is_a_machine_m_code_without_a_required_q() {
+    assert_eq!(errors("centroid", "G90 F10\nM61\nG1 X1\nM30\n"), Vec::<String>::new());
+    assert!(errors("linuxcnc", "G90 F10\nM61\nG1 X1\nM30\n").iter().any(|e| e.starts_with("syntax::missing-parameter")));
+}

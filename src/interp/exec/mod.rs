@@ -217,7 +217,7 @@ impl Interpreter<'_> {
             Meaning::SubprogramCall | Meaning::LocalSubprogramCall | Meaning::SubprogramReturn => self.call(def, range, diags),
             Meaning::DiameterMode | Meaning::RadiusMode => self.diameter_mode(def, sink),
             Meaning::Other => self.kinematics_output(def, sink, diags),
-            Meaning::Output | Meaning::ProgramBegin | Meaning::ContourEnd => {}
+            Meaning::Output | Meaning::OperatorInput | Meaning::ProgramBegin | Meaning::ContourEnd => {}
             Meaning::Stock => self.stock_corner(sink),
             // Read by the arc or move of the block they stand in.
             Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}

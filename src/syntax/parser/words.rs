@@ -9,7 +9,7 @@ use super::super::{Assign, ParamTarget, Value, Word, WordMode};
 use super::Lexer;
 use super::numbers::plain_number;
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::{Role, SkipPosition};
+use crate::dialect::{Meaning, Role, SkipPosition};
 use crate::text::TextRange;
 
 impl Lexer<'_, '_> {
@@ -689,6 +689,16 @@ impl Lexer<'_, '_> {
         None
     }
 
+    /// Whether the block so far holds an M code that stores the operator's input in the
+    /// variable written after it (the dictionary's `operator-input`).
+    fn reads_operator_input(&self) -> bool {
+        self.block.words.iter().any(|w| {
+            w.letter == b'M'
+                && matches!(w.value, Value::Number { value, .. } if (0.0..100_000.0).contains(&value)
+                    && self.dialect.code('M', (value * 10.0).round() as u32).is_some_and(|d| d.meaning == Meaning::OperatorInput))
+        })
+    }
+
     pub(super) fn assignment(&mut self) {
         let start = self.i;
         let bank = self.global_bank();
@@ -716,6 +726,14 @@ impl Lexer<'_, '_> {
             // goes to, are the code's arguments where the dialect writes them so.
             let quote = self.dialect.lexical.string_quote.map(|q| q as u8);
             if self.dialect.lexical.text_arguments && quote.is_some_and(|q| self.b[self.line_start()..self.line_end()].contains(&q)) {
+                // The first variable after a code that reads the operator's number (Centroid
+                // CNC12 manual, chapter 13: `M224 #111 "prompt"` stores the number typed in
+                // #111) is set by the run: an assignment of a value not known here.
+                if self.block.assigns.is_empty() && self.reads_operator_input() {
+                    let value = self.block.exprs.len() as ExprId;
+                    self.block.exprs.push(Expr::Text(self.range(start, self.i)));
+                    self.block.assigns.push(Assign { target, value, range: self.range(start, self.i) });
+                }
                 return;
             }
             // A parameter read without assignment is meaningless in a block.
