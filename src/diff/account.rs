@@ -1344,7 +1344,7 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
                 if it.located && y.as_ref().or(x.as_ref()).is_some_and(|t| about(t, d) == About::Address(Role::SpindleLimit)) => {}
             (Sort::Assign, _, _) if y.as_ref().or(x.as_ref()).is_some_and(|t| typed::sets_variable(t, d)) => {
                 let key = y.as_ref().or(x.as_ref()).map(|t| t.key.clone()).unwrap_or_default();
-                let param = typed::cycle_param(&key, d);
+                let param = typed::cycle_param(&key, it.ctx.cycle, d);
                 // A parameter of a touch probe's cycle (`TCH PROBE 430` … `Q262=+80`): the probing's.
                 let probing = it.ctx.probe_cycle && kind == ChangeKind::StatementChanged;
                 // A cutting edge's offset data (`$TC_DP4[t,d]=…`): the tool's length or radius.

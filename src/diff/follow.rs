@@ -94,7 +94,8 @@ fn rapid_at(p: Program<'_>, stmts: &[Stmt], k: usize, own: &[Token]) -> Option<b
 /// What a word reading a variable does: its kind and field, in its statement's context.
 fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: &Dialect) -> Option<(ChangeKind, String)> {
     if typed::sets_variable(tok, d) {
-        return typed::cycle_param(&tok.key, d).map(|a| (typed::arg_kind(a.role), format!("cycle parameter {}", typed::arg_name(a))));
+        return typed::cycle_param(&tok.key, ctx.cycle, d)
+            .map(|a| (typed::arg_kind(a.role), format!("cycle parameter {}", typed::arg_name(a))));
     }
     if matches!(about(tok, d), About::Address(Role::Z)) && !ctx.cycle && !ctx.probe && ctx.data.is_none() && !ctx.length {
         return rapid().map(|r| {

@@ -784,7 +784,7 @@ pub(super) fn cycle_args<'d>(name: &str, d: &'d Dialect) -> Option<&'d [crate::d
 
 /// The cycle argument a numbered parameter feeds (Heidenhain `Q200`: the set-up clearance
 /// of the 200 cycles), by the dictionary's `param=`; `None` for any other variable.
-pub(super) fn cycle_param<'d>(key: &str, d: &'d Dialect) -> Option<&'d crate::dialect::CycleArg> {
+pub(super) fn cycle_param<'d>(key: &str, in_cycle: bool, d: &'d Dialect) -> Option<&'d crate::dialect::CycleArg> {
     let digits = key.trim_start_matches(|c: char| c.is_ascii_alphabetic());
     if digits.len() == key.len() || digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
         return None;
@@ -793,6 +793,13 @@ pub(super) fn cycle_param<'d>(key: &str, d: &'d Dialect) -> Option<&'d crate::di
     // Only a parameter spelt with the dictionary's parameter letter is one (`Q200`, not `R200`).
     let letter = &key[..key.len() - digits.len()];
     if !d.lexical.parameter.is_some_and(|(sigil, _)| letter.len() == 1 && letter.starts_with(sigil.to_ascii_uppercase())) {
+        return None;
+    }
+    // A parameter in the ranges the dictionary leaves to the user and to other programs
+    // (Heidenhain Q0-Q199, Q1400-Q1999: "free for users"; the cycles' transfer parameters are
+    // Q200 and up) is a variable of the program's own: a legacy cycle that names a low number
+    // (cycle 27's `Q1` depth) reads it only in its own definition's block (`in_cycle`).
+    if !in_cycle && d.macros.outside.iter().any(|&(lo, hi)| (lo..=hi).contains(&n)) {
         return None;
     }
     d.cycles.iter().flat_map(|c| c.args.iter()).find(|a| a.param == Some(n))

@@ -1380,47 +1380,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     t.z = Some([round(zmin), round(zmax)]);
     let runs = runs(ws);
     t.passes = runs.len() as u32;
-    // The tool comes in from outside the cuts, or from inside them (a bore).
-    let entry = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.to[0]);
-    // Inside: a cycle's X allowance is negative, the tool is a boring bar, or roughing
-    // passes come in from within the smallest diameter they cut (outside, the tool comes in
-    // from beyond the largest); a finishing pass starts at its contour's small end either way.
-    let allowance = t.intent.as_ref().and_then(|i| i.allowance_x).filter(|u| u.abs() > TOL);
-    let finish_cycle = t.intent.as_ref().is_some_and(|i| i.kind == Some(TurnKind::Finish));
-    let rough_cycle = t.intent.as_ref().is_some_and(|i| matches!(i.kind, Some(TurnKind::RoughTurn | TurnKind::RoughFace)));
-    // Where a roughing cycle starts: the controls rough between the start point and the
-    // contour, so a start nearer the small diameter than the large one is inside.
-    let start = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.from[0]);
-    t.inside = match allowance {
-        // The allowance is left away from the axis outside: towards +X where the contour
-        // lies at X positive, towards -X where the program writes it at X negative (its
-        // moves mirrored here: the contour is then at X -(x + U/2), a pass at x).
-        // A roughing cycle whose start point lies wholly inside the diameters it cuts roughs a
-        // bore, whatever sign its X allowance is written with (the controls rough between the
-        // start point and the contour, the start point clear of the stock on the side cut from:
-        // Fanuc 0i-TF operator's manual, G71): so does a tool the program names a boring bar.
-        Some(_) if rough_cycle && !t.mirrored && (boring || start.is_some_and(|x| x < xmin - TOL)) => true,
-        Some(u) => (u < 0.0) != (t.mirrored && xmax + u / 2.0 > 0.0),
-        None if rough_cycle && start.is_some() => boring || start.is_some_and(|x| x < (xmin + xmax) / 2.0),
-        // A finishing cycle starts where its contour starts, inside or out: it is inside
-        // where its roughing was (below), or where it leaves its contour towards the axis
-        // (a bore's finishing pass, down its wall and across its bottom, pulled in).
-        None if finish_cycle => boring || left_inward(ws),
-        None => {
-            // (Coming in at the small end counts only for passes all straight, on one side of the
-            // axis: a pass along the contour from its small end turns the outside, and passes
-            // across the axis, from one side to the other, have no inside.)
-            t.inside
-                || boring
-                || (runs.len() > 1
-                    && xmin > -1.0
-                    && runs.iter().all(|r| main_cut(r).is_some())
-                    && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)
-                    && !shaft_steps(&runs))
-                || pulls_off_inward(&runs)
-                || left_inward(ws)
-        }
-    };
+    t.inside = works_inside(ws, &t, &runs, (xmin, xmax), boring);
     // After a plunge across X, a groove is left back out along the same line; a face is
     // left along Z.
     let last_cut = ws.toolpath.iter().rposition(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
@@ -1518,6 +1478,52 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     // front face (a bore's bottom, behind the front, is faced inside).
     t.inside &= op != TurnOp::Drilling && !(op == TurnOp::Facing && zmin >= front - TOL);
     ws.turning = Some(Box::new(t));
+}
+
+/// Whether a workingstep's cuts work the inside of the part (a bore), by its cycle's X
+/// allowance, where a roughing cycle starts, the tool, and how its passes come in and leave.
+fn works_inside(ws: &Workingstep, t: &super::turned::Turning, runs: &[Vec<Move>], (xmin, xmax): (f64, f64), boring: bool) -> bool {
+    // The tool comes in from outside the cuts, or from inside them (a bore).
+    let entry = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.to[0]);
+    // Inside: a cycle's X allowance is negative, the tool is a boring bar, or roughing
+    // passes come in from within the smallest diameter they cut (outside, the tool comes in
+    // from beyond the largest); a finishing pass starts at its contour's small end either way.
+    let allowance = t.intent.as_ref().and_then(|i| i.allowance_x).filter(|u| u.abs() > TOL);
+    let finish_cycle = t.intent.as_ref().is_some_and(|i| i.kind == Some(TurnKind::Finish));
+    let rough_cycle = t.intent.as_ref().is_some_and(|i| matches!(i.kind, Some(TurnKind::RoughTurn | TurnKind::RoughFace)));
+    // Where a roughing cycle starts: the controls rough between the start point and the
+    // contour, so a start nearer the small diameter than the large one is inside.
+    let start = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.from[0]);
+    match allowance {
+        // The allowance is left away from the axis outside: towards +X where the contour
+        // lies at X positive, towards -X where the program writes it at X negative (its
+        // moves mirrored here: the contour is then at X -(x + U/2), a pass at x).
+        // A roughing cycle whose start point lies wholly inside the diameters it cuts roughs a
+        // bore, whatever sign its X allowance is written with (the controls rough between the
+        // start point and the contour, the start point clear of the stock on the side cut from:
+        // Fanuc 0i-TF operator's manual, G71): so does a tool the program names a boring bar.
+        Some(_) if rough_cycle && !t.mirrored && (boring || start.is_some_and(|x| x < xmin - TOL)) => true,
+        Some(u) => (u < 0.0) != (t.mirrored && xmax + u / 2.0 > 0.0),
+        None if rough_cycle && start.is_some() => boring || start.is_some_and(|x| x < (xmin + xmax) / 2.0),
+        // A finishing cycle starts where its contour starts, inside or out: it is inside
+        // where its roughing was (below), or where it leaves its contour towards the axis
+        // (a bore's finishing pass, down its wall and across its bottom, pulled in).
+        None if finish_cycle => boring || left_inward(ws),
+        None => {
+            // (Coming in at the small end counts only for passes all straight, on one side of the
+            // axis: a pass along the contour from its small end turns the outside, and passes
+            // across the axis, from one side to the other, have no inside.)
+            t.inside
+                || boring
+                || (runs.len() > 1
+                    && xmin > -1.0
+                    && runs.iter().all(|r| main_cut(r).is_some())
+                    && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)
+                    && !shaft_steps(runs))
+                || pulls_off_inward(runs)
+                || left_inward(ws)
+        }
+    }
 }
 
 /// Whether a run turns a profile outside down along -Z, as a grooving tool finishes a spigot

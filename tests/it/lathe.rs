@@ -833,7 +833,12 @@ fn lathe_s7_held_out_programs() {
 /// enier290188/cnc: a hand-written step shaft in explicit passes, turned from both sides (R.05
 /// rounds). Of madsenmj/vscode-gcode-syntax-citizen (MIT): a Citizen Swiss-type sample in
 /// macro variables (facing, Ø.1 turned along +Z, parting off). Only the sidecars are committed;
-/// written before ncplan ran on them.
+/// written before ncplan ran on them. Measured once on 7 December 2026 (integrate a89f1ba): 73 of
+/// 83, no milling feature. Missed: the Citizen Swiss-type sample's six items (its facing,
+/// turning and part-off in macro variables along +Z read as no workingstep); O2403 and O2411's
+/// `G72`/`G70` facing finish (feed and clamp); O2411's annular face groove, whose floor the
+/// sidecar lists as a revolved flat where the plan now names a face groove (lathe23); the Fusion
+/// 360 program's Ø50.
 ///
 /// `tests/programs/lathe_build16/` is branch lathe22's own build set (see `lathe_build16_programs`).
 #[test]

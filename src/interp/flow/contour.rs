@@ -83,19 +83,7 @@ impl<'a> Driver<'a, '_> {
                 return;
             }
         };
-        let corners = interp.corners.replace(None);
-        let saved = (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take());
-        interp.comp.replace(None);
-        // The contour's blocks are its geometry, not cuts run as written: no feed or spindle
-        // asked of them (the cycle's own feed cuts it).
-        interp.st.tech_warned = true;
-        let (shape, _) = self.profile_blocks(source, body, until, interp, diags);
-        let (st, params, comp, corners, problem) = saved;
-        interp.st = st;
-        interp.params = params;
-        interp.comp.replace(comp);
-        interp.corners.replace(corners);
-        interp.comp_problem.set(problem);
+        let shape = self.contour_geometry((source, body, until), interp, diags);
         (interp.origin, interp.line) = (block.range, block.line);
         interp.stock_removal(job, &shape, sink, diags);
     }
@@ -119,10 +107,23 @@ impl<'a> Driver<'a, '_> {
             }
         };
         let tilt = interp.cylinder_surface_begin(job, sink, diags);
+        let shape = self.contour_geometry((source, body, until), interp, diags);
+        (interp.origin, interp.line) = (block.range, block.line);
+        interp.cylinder_surface_cut(job, &shape, tilt, sink, diags);
+    }
+
+    /// A contour's blocks read as its geometry, without effect: the state, parameters, cutter
+    /// compensation and corner stage as they were before, and no feed or spindle asked of the
+    /// blocks (the cycle's own feeds cut the contour).
+    fn contour_geometry(
+        &mut self,
+        (source, body, until): (usize, Pos, usize),
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Vec<crate::canon::Canon> {
         let corners = interp.corners.replace(None);
         let saved = (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take());
         interp.comp.replace(None);
-        // The contour's blocks are its geometry: the cycle's own feeds cut it.
         interp.st.tech_warned = true;
         let (shape, _) = self.profile_blocks(source, body, until, interp, diags);
         let (st, params, comp, corners, problem) = saved;
@@ -131,7 +132,6 @@ impl<'a> Driver<'a, '_> {
         interp.comp.replace(comp);
         interp.corners.replace(corners);
         interp.comp_problem.set(problem);
-        (interp.origin, interp.line) = (block.range, block.line);
-        interp.cylinder_surface_cut(job, &shape, tilt, sink, diags);
+        shape
     }
 }
