@@ -200,10 +200,7 @@ impl Interpreter<'_> {
             let side = |c: [f64; 2], k: f64| [c[0] + k * n[0], c[1] + k * n[1]];
             for d in depths {
                 let z = job.radius - d;
-                self.go_to(sink, to(start[0], start[1], over), false);
-                self.feed_of_cycle(job.feeds.0, sink);
-                self.go_to(sink, to(start[0], start[1], z), true);
-                self.feed_of_cycle(job.feeds.1, sink);
+                self.cylinder_plunge(job, to(start[0], start[1], over), z, sink);
                 let comp = crate::canon::CompOn { left: true, number: None, radius: None, tip: None };
                 self.emit(sink, CanonOp::Setting(Setting::CutterComp(Some(comp))));
                 // Counter-clockwise: along the right side, round the far end, back along the
@@ -225,10 +222,7 @@ impl Interpreter<'_> {
         }
         for d in depths {
             let z = job.radius - d;
-            self.go_to(sink, to(start[0], start[1], over), false);
-            self.feed_of_cycle(job.feeds.0, sink);
-            self.go_to(sink, to(start[0], start[1], z), true);
-            self.feed_of_cycle(job.feeds.1, sink);
+            self.cylinder_plunge(job, to(start[0], start[1], over), z, sink);
             for op in moves {
                 match **op {
                     CanonOp::StraightTraverse(t) | CanonOp::StraightFeed(t) => {
@@ -255,6 +249,16 @@ impl Interpreter<'_> {
             self.st.feed = f;
             self.emit(sink, CanonOp::SetFeedRate(f));
         }
+    }
+    /// To `above` (over the set-up clearance), then down to `z` at the plunging feed, the
+    /// milling feed set for what follows.
+    fn cylinder_plunge(&mut self, job: &CylinderSurface, above: [f64; 6], z: f64, sink: &mut dyn CanonSink) {
+        self.go_to(sink, above, false);
+        self.feed_of_cycle(job.feeds.0, sink);
+        let mut down = above;
+        down[2] = z;
+        self.go_to(sink, down, true);
+        self.feed_of_cycle(job.feeds.1, sink);
     }
 
     /// Out of the cylinder: the tool to the clearance, cylindrical interpolation off and the

@@ -76,13 +76,7 @@ impl<'a> Driver<'a, '_> {
         sink: &mut dyn CanonSink,
         diags: &mut Vec<Diagnostic>,
     ) {
-        let (source, body, until) = match self.contour_span(name) {
-            Ok(span) => span,
-            Err(why) => {
-                self.error(diags, Code::MissingLabel, block.range, format!("{why}; the cycle is skipped"));
-                return;
-            }
-        };
+        let Some((source, body, until)) = self.contour_or_skip(name, block, diags) else { return };
         let shape = self.contour_geometry((source, body, until), interp, diags);
         (interp.origin, interp.line) = (block.range, block.line);
         interp.stock_removal(job, &shape, sink, diags);
@@ -99,17 +93,19 @@ impl<'a> Driver<'a, '_> {
         sink: &mut dyn CanonSink,
         diags: &mut Vec<Diagnostic>,
     ) {
-        let (source, body, until) = match self.contour_span(name) {
-            Ok(span) => span,
-            Err(why) => {
-                self.error(diags, Code::MissingLabel, block.range, format!("{why}; the cycle is skipped"));
-                return;
-            }
-        };
+        let Some((source, body, until)) = self.contour_or_skip(name, block, diags) else { return };
         let tilt = interp.cylinder_surface_begin(job, sink, diags);
         let shape = self.contour_geometry((source, body, until), interp, diags);
         (interp.origin, interp.line) = (block.range, block.line);
         interp.cylinder_surface_cut(job, &shape, tilt, sink, diags);
+    }
+
+    /// The span of the contour `name` names, or an error at the cycle's block that it is
+    /// skipped.
+    fn contour_or_skip(&mut self, name: &str, block: &Block, diags: &mut Vec<Diagnostic>) -> Option<(usize, Pos, usize)> {
+        self.contour_span(name)
+            .map_err(|why| self.error(diags, Code::MissingLabel, block.range, format!("{why}; the cycle is skipped")))
+            .ok()
     }
 
     /// A contour's blocks read as its geometry, without effect: the state, parameters, cutter
