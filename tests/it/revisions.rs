@@ -241,7 +241,7 @@ const PARTS: [(&str, &str); 19] = [
     ("held14", "fourteenth round's pairs held back (r609-r674)"),
     ("held15", "fifteenth round's pairs held back (r675-r704)"),
     ("build16", "sixteenth round's pairs built on (r900-)"),
-    ("held16", "seventeenth round's pairs held back (r705-r734)"),
+    ("held16", "seventeenth round's pairs held back (r705-r735)"),
 ];
 
 fn report(pairs: &[Pair]) -> (String, usize) {
