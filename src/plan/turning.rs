@@ -516,6 +516,27 @@ fn follow_roughing(plan: &mut ProcessPlan) {
             t.operation = Some(TurnOp::Contouring);
         }
     }
+    // A finishing cycle after a face roughing cycle finishes that cycle's contour (Fanuc's G70
+    // runs the contour the G72 before it roughed, once as written: the operator's manual's
+    // "finishing after rough cutting by G71, G72 or G73"), a face profile written from the
+    // outside in: facing, as the roughing is, where that contour is mostly across X (a
+    // spigot's or a chamfer's run along Z in it is part of the face profile). Not to the
+    // axis needed: a face may stop at a centre hole or a bore.
+    for k in 1..plan.workingsteps.len() {
+        let (done, rest) = plan.workingsteps.split_at_mut(k);
+        let ws = &mut rest[0];
+        let kind = |w: &Workingstep| w.turning.as_ref().and_then(|t| t.intent.as_ref()).and_then(|i| i.kind);
+        if kind(ws) != Some(TurnKind::Finish) || ws.turning.as_ref().and_then(|t| t.operation) != Some(TurnOp::Contouring) {
+            continue;
+        }
+        let roughed = done.iter().rev().find(|w| matches!(kind(w), Some(TurnKind::RoughTurn | TurnKind::RoughFace)));
+        if roughed.is_some_and(|w| kind(w) == Some(TurnKind::RoughFace))
+            && mostly_across(&cuts(ws))
+            && let Some(t) = ws.turning.as_mut()
+        {
+            t.operation = Some(TurnOp::Facing);
+        }
+    }
     // A finishing pass is inside where the same tool's roughing was.
     for k in 1..plan.workingsteps.len() {
         let (done, rest) = plan.workingsteps.split_at_mut(k);
@@ -1361,6 +1382,14 @@ fn face_contour(contour: &[Move]) -> bool {
     let all: f64 = contour.iter().map(length).sum();
     let lo = contour.iter().flat_map(|m| [m.from[0], m.to[0]]).fold(f64::INFINITY, f64::min);
     all > TOL && across >= 0.75 * all && lo < 0.05
+}
+
+/// Whether cuts run mostly across X: more of their length across than along Z or oblique.
+fn mostly_across(cuts: &[Move]) -> bool {
+    let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
+    let across: f64 = cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(length).sum();
+    let all: f64 = cuts.iter().map(length).sum();
+    all > TOL && 2.0 * across > all
 }
 
 fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool, drill: Option<f64>) {

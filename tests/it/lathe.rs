@@ -838,7 +838,13 @@ fn lathe_s7_held_out_programs() {
 /// turning and part-off in macro variables along +Z read as no workingstep); O2403 and O2411's
 /// `G72`/`G70` facing finish (feed and clamp); O2411's annular face groove, whose floor the
 /// sidecar lists as a revolved flat where the plan now names a face groove (lathe23); the Fusion
-/// 360 program's Ø50.
+/// 360 program's Ø50. After lathe24 (7 December 2026): 75 of 83 (a `G70` after a `G72` finishes
+/// that face profile: facing finish). O2411's sidecar now names its groove's floor a face groove
+/// (the program's "FACE GROOVE", a face grooving holder), still missed: its feed approach at F.02
+/// above the face and the plunge at F.0035 part the groove into two workingsteps, the plunge and
+/// the two wall passes, and neither is read as a face groove. Left too: the Citizen sample (its
+/// `$1`/`$2` paths, `S1=`, `!L1` and `X#814+.1` unbracketed are not read) and the Fusion Ø50 (read
+/// as a groove between the last V ridge and the Ø70 shoulder).
 ///
 /// `tests/programs/lathe_s17_heldout/` is sweep 17's held-back set (branch gather17a: 8 programs
 /// of 4 repositories, 91 items), files no test used. Of mikemacfarland/Doosan-Lynx-300 (inch,
@@ -2372,4 +2378,18 @@ G0 X200. Z200.\nT0303 (OD FINISH)\nG96 S250 M3\nG0 X38. Z2.\nG1 X40. Z0. F0.08\n
         .replace("Z-30.\nX44.\nG0 X200. Z200.\nM30", "Z-30.\nG0 Z2.\nG40 X200. Z200.\nM30");
     let (ws, features) = turned_of(&bar);
     assert_eq!(ws.last().map(String::as_str), Some("contouring finish inside"), "{ws:?} {features:?}");
+}
+
+/// Fanuc's `G70` after a `G72` finishes the face profile the face roughing cycle roughed (the
+/// operator's manual: G70 finishes after rough cutting by G71, G72 or G73), once as written from
+/// the outside in: facing finish, as the roughing is facing, also where the face stops at a
+/// centre hole and steps over a spigot. After a `G71` the same profile is a contour.
+#[test]
+fn a_finish_after_face_roughing_faces() {
+    let program = "O1\nG21 G99\nT0101\nG50 S3000\nG96 S200 M3\nG0 X110. Z1.\nG72 W2. R1.\nG72 P10 Q14 U0.4 W0.2 F0.3\n\
+N10 G0 Z-10.\nN11 G1 X100. Z-8.\nN12 X40.\nN13 Z-2.\nN14 X5. Z0.\nG70 P10 Q14 F0.1\nG0 X200. Z200.\nM30\n";
+    let (ws, features) = labels(program, "fanuc_lathe");
+    assert_eq!(ws, ["facing rough", "facing finish"], "{features:?}");
+    let (ws, _) = labels(&program.replace("G72 W2. R1.", "G71 U2. R1.").replace("G72 P10", "G71 P10"), "fanuc_lathe");
+    assert_eq!(ws.last().map(String::as_str), Some("contouring finish"), "{ws:?}");
 }
