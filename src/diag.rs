@@ -242,6 +242,10 @@ codes! {
     CallDepth = ("flow::call-depth", Error),
     /// A loop end, branch or return without its opening statement.
     UnmatchedStatement = ("flow::unmatched", Error),
+    /// A subroutine definition closed by an `endsub` of another name, in a subroutine file
+    /// run from its `sub` line: the run returns there all the same (rs274), but the label is
+    /// probably a copy's leftover.
+    ForeignEndLabel = ("flow::foreign-end-label", Warning),
     /// A subroutine defined inside another subroutine's definition.
     NestedDefinition = ("flow::nested-definition", Error),
     /// A file that only defines subroutines: nothing runs by itself.

@@ -575,6 +575,11 @@ pub struct Macros {
     /// Whether a statement may follow an `IF [..]` condition on its line without `THEN`
     /// (Haas: `IF [#9 EQ #0] #9=#4109`, `IF [..] M98 P9004`): run when the condition holds.
     pub if_then_optional: bool,
+    /// Whether an `IF` with nothing after its condition reads the condition and runs nothing
+    /// (`if-alone-reads`; Centroid CNC12: its template M-function macros open with
+    /// `IF #50010 ;Prevent lookahead from parsing past here`, reading a PLC input so that
+    /// lookahead stops there), rather than opening a block up to an `ENDIF`.
+    pub if_alone_reads: bool,
     /// Whether a variable read before it is set is 0 (with a note) instead of an error.
     pub unset_reads_zero: bool,
     /// Whether a named variable read before the file declares or sets it is unknown: global
@@ -657,6 +662,7 @@ impl Default for Macros {
             bare_if_jump: false,
             checks_nesting: false,
             if_then_optional: false,
+            if_alone_reads: false,
             unset_reads_zero: false,
             unset_unknown: false,
             outside: Vec::new(),

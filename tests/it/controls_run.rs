@@ -2,7 +2,8 @@
 //! of several dimensions, oscillation settings given as a pair, skip levels, an addressed
 //! spindle's expression value, a rounding beside an arc; Haas's `IF [..]` with a statement
 //! and no THEN; and what the control rejects stays an error (Fanuc's `IF` with neither GOTO
-//! nor THEN); Centroid's one-line `IF .. THEN GOTO n` and its `ELSE`.
+//! nor THEN); Centroid's one-line `IF .. THEN GOTO n` and its `ELSE`, and its `IF cond` alone
+//! (lookahead stop); a LinuxCNC subroutine file whose `endsub` names another subroutine.
 
 use ncplan::interp::Profile;
 
@@ -510,4 +511,45 @@ fn centroid_m225_reads_its_variable() {
 fn centroid_m61_is_a_machine_m_code_without_a_required_q() {
     assert_eq!(errors("centroid", "G90 F10\nM61\nG1 X1\nM30\n"), Vec::<String>::new());
     assert!(errors("linuxcnc", "G90 F10\nM61\nG1 X1\nM30\n").iter().any(|e| e.starts_with("syntax::missing-parameter")));
+}
+
+/// Centroid's template M-function macros (the mfuncN.mac files CNC12 installs, "see TB300
+/// for tips on writing custom macros") open with `IF #50010 ;Prevent lookahead from parsing
+/// past here`: an IF with nothing after its condition, which reads the PLC input (lookahead
+/// stops there) and runs nothing. CNC12 has no block IF, so it opens nothing that an ENDIF
+/// must close (sweep 17's Acroloc mfunc6.mac: "no matching `endif`", and the rest unread).
+/// Where the language does have a block IF (LinuxCNC's `o100 if`) it still needs its endif,
+/// and Fanuc's IF with neither GOTO nor THEN still stops the control.
+#[test]
+fn centroid_if_alone_reads_its_condition_and_runs_nothing() {
+    for input in ["0", "1"] {
+        let program =
+            format!("G90 F10\n#50001={input}\nIF #50001 ;Prevent lookahead from parsing past here\nN100\nG1 X1\nN1000\nG1 X2\nM30\n");
+        assert_eq!(errors("centroid", &program), Vec::<String>::new(), "#50001={input}");
+        assert_eq!(xs("centroid", &program), vec!["1.0000", "2.0000"], "#50001={input}");
+    }
+    // Read from the PLC (not set by the file), as the macros do.
+    let program = "G90 F10\nIF #50010\nG1 X1\nM30\n";
+    assert_eq!(errors("centroid", program), Vec::<String>::new());
+    assert_eq!(xs("centroid", program), vec!["1.0000"]);
+    assert!(!errors("linuxcnc", "G90 F10\no100 if [#1 GT 0]\nG1 X1\nM2\n").is_empty());
+    assert!(!errors("fanuc", "O1000\n#1=1\nIF [#1 EQ 1]\nG0 X1\nM30\n").is_empty());
+}
+
+/// A LinuxCNC subroutine file copied from another and renamed on its `sub` line only
+/// (Pocket NC's tool-probe.ngc: `O<tool-probe> SUB` .. `O<tool-change> ENDSUB`): a call runs
+/// the file from its `sub` line and returns at the first `endsub` it meets, whatever its label
+/// (rs274 -g on a copy that calls it: no error), so the file reads with a warning naming the
+/// leftover label. In the flow of a main program the definition is skipped to an `endsub` of
+/// its own label, and without one the run stops (rs274: the file ends with no program end).
+#[test]
+fn linuxcnc_a_subroutine_files_endsub_of_another_name_returns_with_a_warning() {
+    let file = "o<tool-probe> sub\nG91\nG38.2 Z-10 F20\nG90\no<tool-change> endsub\n";
+    assert_eq!(errors("linuxcnc", file), Vec::<String>::new());
+    assert!(findings("linuxcnc", file).iter().any(|c| c == "flow::foreign-end-label"), "{:?}", findings("linuxcnc", file));
+    // Its own label, when the file has it, ends the definition: no warning.
+    let own = "o<tp> sub\nG0 X1\no<tp> endsub\n";
+    assert!(!findings("linuxcnc", own).iter().any(|c| c == "flow::foreign-end-label"));
+    let in_flow = "G0 X0\no<a> sub\nG0 X1\no<b> endsub\no<a> call\nM2\n";
+    assert!(errors("linuxcnc", in_flow).iter().any(|e| e.starts_with("flow::missing-label")), "{:?}", errors("linuxcnc", in_flow));
 }

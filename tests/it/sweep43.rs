@@ -316,6 +316,16 @@
 //! `GOTO#149` jumped to the vacant value; h021: `CYCL DEF9.1 V.IDO2` (cycle 9's DWELL 2 in the
 //! Hungarian dialogue, name run into value); h003 read as the Fanuc lathe by `G65 P9732 S1. W2.`,
 //! a macro argument. After branch vocab17: 30/30, family 30/30; every seen half as before.
+//!
+//! Sweep 17's build half (rows j001-j018, half `build-s17`, gathered by vocab18 to build from;
+//! 18 programs of 4 repositories, all valid; fewer than asked and no Fanuc, Haas, Heidenhain,
+//! Okuma, Mazak or Fagor program could be found unused): Centroid 7 (an Acroloc router's CNC12
+//! M-function macros), LinuxCNC 11 (Machinekit probing and manual tool-change remaps, a touch-plate
+//! sub, Pocket NC's builder subs). On integrate 6910503, before any rule was built from it:
+//! 16/18 valid without an error, family 18/18. j003: Centroid's template `IF #50001 ;Prevent
+//! lookahead` read as a block IF looking for its ENDIF; j018: a subroutine file closed by the
+//! `endsub` of another name (copied from tool-change.ngc). After branch vocab18: 18/18, family
+//! 18/18; holdout-s13 to s16 (whose mirrors were fetched) as before.
 
 use std::path::PathBuf;
 

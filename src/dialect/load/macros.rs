@@ -23,6 +23,7 @@ const ATTRIBUTES: &[&str] = &[
     "bare-if-jump",
     "checks-nesting",
     "if-then-optional",
+    "if-alone-reads",
     "unset-variables",
     "return-value",
     "outside-variables",
@@ -56,6 +57,7 @@ impl Cx {
             bare_if_jump: self.bool(el, "bare-if-jump", false),
             checks_nesting: self.bool(el, "checks-nesting", false),
             if_then_optional: self.bool(el, "if-then-optional", false),
+            if_alone_reads: self.bool(el, "if-alone-reads", false),
             return_value: self.attr(el, "return-value").map(|n| n.split_whitespace().collect::<String>().to_lowercase()),
             machine_functions: self
                 .attr(el, "machine-functions")

@@ -164,6 +164,14 @@ impl<'a> Driver<'a, '_> {
                     interp.execute(block, sink, diags);
                 }
             }
+            None if c.statement == Some(Statement::If)
+                && self.dialect.macros.if_alone_reads
+                && block.words.is_empty()
+                && block.assigns.is_empty() =>
+            {
+                // `IF #50010`: the condition is read (on CNC12 a PLC input, which stops
+                // lookahead there) and nothing else runs, whichever way it goes.
+            }
             None if c.statement == Some(Statement::If) && !self.dialect.macros.statements.iter().any(|(_, st)| *st == Statement::EndIf) => {
                 // No block IF in the language (Fanuc Custom Macro B: `IF [..] GOTO n`,
                 // `IF [..] THEN`): the control stops at the block whatever the condition.
@@ -432,7 +440,14 @@ impl<'a> Driver<'a, '_> {
         // from its `sub` line, an `endsub` inside one of its `if`s or loops returns like
         // `return`, and the definition ends at the `endsub` no block of it encloses.
         if head && !self.main_work {
-            if let Some(next) = enclosing_end(self.marks(self.cur), start.at, label) {
+            if let Some((next, foreign)) = enclosing_end(self.marks(self.cur), start.at, label) {
+                if let Some(m) = foreign {
+                    let msg = format!(
+                        "this subroutine file's definition ends at the `endsub` of line {}, which names another subroutine: a call runs the file from its `sub` line and returns at that `endsub` whatever its name (rs274), so the label looks like a copy's leftover",
+                        m.line
+                    );
+                    diags.push(Diagnostic::new(Code::ForeignEndLabel, c.range, msg));
+                }
                 self.library = true;
                 self.unreadable_body(start, next, diags);
                 self.switch_to(self.cur, next, interp);
@@ -912,18 +927,26 @@ impl Driver<'_, '_> {
 /// no labelled `if`, `while`, `do` or `repeat` of its body encloses (opened after the
 /// definition and still open there). One pass, the open blocks kept as a stack of labels; a
 /// label reused by a later block after its own closed is another block.
-fn enclosing_end(marks: &[Mark], after: usize, label: &Option<String>) -> Option<Pos> {
+/// Where none has the definition's own label, the first `endsub` of another label that no
+/// block encloses ends it (a copied file whose `endsub` kept the old name): rs274 runs a
+/// called file from its `sub` line and returns at the first `endsub` it meets, whatever its
+/// label; that mark's start comes back beside the end for a finding.
+fn enclosing_end(marks: &[Mark], after: usize, label: &Option<String>) -> Option<(Pos, Option<Pos>)> {
     let from = marks.partition_point(|m| m.start.at <= after);
     // The labels open at each point, and whether each was opened by `do` (its `while` closes it).
     let mut open: Vec<(&Option<String>, bool)> = Vec::new();
+    let mut foreign: Option<&Mark> = None;
     for m in &marks[from..] {
         let Some(st) = m.statement else { continue };
         if m.label.is_none() {
             continue;
         }
+        if st == Statement::EndSub && open.is_empty() && m.label != *label {
+            foreign = foreign.or(Some(m));
+        }
         if m.label == *label {
             if st == Statement::EndSub && open.is_empty() {
-                return Some(m.next);
+                return Some((m.next, None));
             }
             continue;
         }
@@ -939,7 +962,7 @@ fn enclosing_end(marks: &[Mark], after: usize, label: &Option<String>) -> Option
             _ => {}
         }
     }
-    None
+    foreign.map(|m| (m.next, Some(m.start)))
 }
 
 /// Whether mark `m` is one of the statements `sts` labelled `label` (`o100 endwhile` for
