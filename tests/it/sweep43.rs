@@ -305,6 +305,13 @@
 //! rounded corners of the contour editor's subprograms that do not close (g010), a `CYCLE952`
 //! contour named by a subprogram beside the file (g011: "no label starts the contour"), and
 //! `S2=100` beside an `S` taken for the same address twice (g017).
+//! After branch sinuturn (integrate bc9f9f2; seen, built from): the machine judged also by the
+//! reading's own lathe findings (a lathe's reset state, a lathe's tool change by T), with
+//! `CYCLE930`/`CYCLE940`/ShopTurn `F_ROUGH` kept as intent but read as a lathe's words:
+//! holdout-s16 26/32 valid without an error (unchanged), family right 25/32 valid (was 15) and
+//! 26/33 of all. Still taken for mills: contour subprograms alone (g009, g010: no turning word,
+//! their arcs the errors they were; g020: `G17 DIAMOF` for `TRANSMIT`), the slotting `PROC` with
+//! `DIAMOF`/`DIAMON` and no T word (g028), and the LinuxCNC grinder's three files.
 //!
 //! Sweep 16's build half (rows h001-h030, half `build-s16`, gathered by vocab17 to build from;
 //! 30 programs of 6 repositories, all valid): Fanuc 19 (a Robodrill's 2025 Renishaw GoProbe
