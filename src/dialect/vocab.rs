@@ -430,6 +430,11 @@ vocab! {
         ProgramBegin = "program-begin",
         /// A cycle kept as intent whose moves are not expanded (pockets, swivelling).
         CycleIntent = "cycle-intent",
+        /// A turning machine's cycle kept as intent, its moves not expanded (its parameter
+        /// list not documented well enough to read sizes from it: SINUMERIK Operate's
+        /// `CYCLE930` groove, `CYCLE940` undercut, ShopTurn's `F_ROUGH` work step): read as a
+        /// lathe's word, the evidence of a turning machine as a turning cycle is.
+        CycleTurnIntent = "cycle-turn-intent",
         /// Tilts the working plane by spatial angles: about the fixed X, then Y, then Z axes
         /// (Heidenhain `PLANE SPATIAL SPA SPB SPC`, cycle 19's A B C); the words of the
         /// `tilt-a`, `tilt-b`, `tilt-c` roles.

@@ -672,6 +672,7 @@ impl Interpreter<'_> {
                     | Meaning::MirrorCancel
                     | Meaning::Stock
                     | Meaning::CycleIntent
+                    | Meaning::CycleTurnIntent
             ) || (self.dialect.groups[self.code(c).group].step != Step::Motion && self.claims_axes(c))
         });
         if self.has_axes && !claimed { self.st.motion_code } else { None }

@@ -2393,3 +2393,36 @@ N10 G0 Z-10.\nN11 G1 X100. Z-8.\nN12 X40.\nN13 Z-2.\nN14 X5. Z0.\nG70 P10 Q14 F0
     let (ws, _) = labels(&program.replace("G72 W2. R1.", "G71 U2. R1.").replace("G72 P10", "G71 P10"), "fanuc_lathe");
     assert_eq!(ws.last().map(String::as_str), Some("contouring finish"), "{ws:?}");
 }
+
+/// The Sinumerik turning cycles kept as intent (Operate's groove `CYCLE930` and undercut
+/// `CYCLE940`, whose argument order the manuals found do not give, and ShopTurn's work steps
+/// `F_HEAD`/`F_ROUGH`/`F_END`, whose parameters are the screens' own) read without an error and
+/// show a turning machine (dictionary meaning `cycle-turn-intent`): the reading finds the lathe's
+/// reset state (DIAMON, G18) from them alone, as it does from `CYCLE951`; the same program
+/// without them shows no lathe. Own programs, expectations written before the run.
+#[test]
+fn turning_cycles_kept_as_intent_show_a_lathe() {
+    let d = Registry::shipped().get("siemens").unwrap();
+    let read = |program: &str| pipeline::analyze(program.as_bytes(), &d, &Profile::default()).diagnostics;
+    let lathe = |diags: &[ncplan::diag::Diagnostic]| diags.iter().any(|x| x.code.as_str() == "interp::x-words-diameter");
+    let kept = |diags: &[ncplan::diag::Diagnostic], name: &str| {
+        diags.iter().any(|x| x.code.as_str() == "interp::unsupported" && x.message.starts_with(&format!("{name} (cycle-turn-intent)")))
+    };
+    let base = "G90 G95\nT=\"GROOVER_3MM\" D1\nS400 M4\nG0 X60 Z5\n";
+    let groove = format!("{base}CYCLE930(50,-12,3,2.5,1,,0,0,0,0,0,0,0,0.1,1,1,10510,,1,0,0.08,1,0,0,2,1111110)\nG0 X100 Z50\nM30\n");
+    let a = read(&groove);
+    assert!(a.iter().all(|x| !x.is_error()), "{a:?}");
+    assert!(kept(&a, "CYCLE930") && lathe(&a), "{a:?}");
+    let undercut = format!("{base}CYCLE940(20,-25,\"A\",1,1,0.07,13,,,,,30,60,0.3,0.1,0,0,17,,,2,1000)\nG0 X100 Z50\nM30\n");
+    let a = read(&undercut);
+    assert!(a.iter().all(|x| !x.is_error()), "{a:?}");
+    assert!(kept(&a, "CYCLE940") && lathe(&a), "{a:?}");
+    let plain = format!("{base}G1 X50 F0.1\nG0 X100 Z50\nM30\n");
+    assert!(!lathe(&read(&plain)), "{:?}", read(&plain));
+    let steps = "F_HEAD(1,40,2,,-30,40,5,0,0,200,200,1,3000,3000,71,1,35535,,40,0);*RO*\n\
+F_ROUGH(\"ROUGHER\",\"\",1,0.25,2,250,2,0,54273,5,40,90,2,90,-1,90,0,90,-1,90,0,90,0,0,0,0,2,0,0,0,90,90,90,0,0);*RO*\n\
+F_END(0,1,0);*RO*\nM30\n";
+    let a = read(steps);
+    assert!(a.iter().all(|x| !x.is_error() && x.code.as_str() != "flow::missing-program"), "{a:?}");
+    assert!(kept(&a, "F_ROUGH") && lathe(&a), "{a:?}");
+}

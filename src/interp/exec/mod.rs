@@ -241,7 +241,7 @@ impl Interpreter<'_> {
             Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid => self.code_pattern(def, range, block, sink, diags),
             Meaning::CycleRoughTurn | Meaning::CycleRoughFace | Meaning::CycleFinishContour => self.contour_cycle(def, range, diags),
             Meaning::ProfileFinish | Meaning::ProfileRoughTurn | Meaning::ProfileRoughFace => self.profile_cycle(def, range, diags),
-            Meaning::CycleIntent => self.cycle_intent(def, range, diags),
+            Meaning::CycleIntent | Meaning::CycleTurnIntent => self.cycle_intent(def, range, diags),
             Meaning::CycleThreadMultiple | Meaning::CycleGroove | Meaning::CycleFacePeck => self.lathe_cycle(def, range, sink, diags),
             _ => self.not_executed(def, range, diags),
         }

@@ -7,7 +7,7 @@
 
 use crate::canon::CanonSink;
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::{CodeDef, Role};
+use crate::dialect::{CodeDef, Meaning, Role};
 use crate::interp::{Interpreter, stock_comment};
 use crate::syntax::WordMode;
 use crate::text::TextRange;
@@ -53,6 +53,8 @@ impl Interpreter<'_> {
 
     /// A cycle this interpreter keeps as intent only: its moves are not expanded.
     pub(super) fn cycle_intent(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        // A turning machine's cycle is a lathe's word, expanded or not.
+        self.lathe_words.0 += u32::from(def.meaning == Meaning::CycleTurnIntent);
         let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", def.label(), def.name);
         self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
     }
