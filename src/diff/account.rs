@@ -1260,6 +1260,9 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
             control::Flow::Branch if c.after.contains("GOTO") || c.before.contains("GOTO") => {
                 control::jump_part(&c.before, &c.after).to_owned()
             }
+            // A conditional jump whose differing words are its condition (Heidenhain `FN 9: IF
+            // +Q1 EQU +0 GOTO LBL 5` → `EQU +1`): the condition, not the target.
+            control::Flow::Jump if !it.diffs.iter().any(|x| control::jump_target_word(x, d)) => "condition".to_owned(),
             control::Flow::Jump => "jump target".to_owned(),
             _ => flow.field().to_owned(),
         };
