@@ -407,53 +407,73 @@ fn all_same(bk: &Bulk, sa: &[Stmt], sb: &[Stmt], same: &[(Option<u32>, Option<u3
     bk.hunk.original.clone().all(|k| o.contains(&sa[k].line)) && bk.hunk.edited.clone().all(|k| e.contains(&sb[k].line))
 }
 
-/// The statements of hunks that only set the same modal states in other blocks (`G54 G18 G21
-/// F400` written as `G54 G18 G21` and `F400`): the same words on both sides, none of which
-/// moves, calls, switches anything on or reads a variable, so that no move runs between
-/// them. Each as (original line, None) or (None, edited line).
+/// The statements of hunks that only set modal states, re-blocked (`G54 G18 G21 F400` written
+/// as `G54 G18 G21` and `F400`; a safety block `G20 G90 G17 G94 G49 G40 G80` split into one
+/// code a block): none of their words moves, calls, switches anything on or reads a variable,
+/// so no move runs between them, and both sides leave the same state for what runs next — each
+/// modal group they set (the dictionary's group of a code; a feed, `F`) set by both, to the
+/// same last word. A code that gives way in its group to a later one is overridden the same as
+/// in one block, so the order within a group counts (`G91` then `G90` is not `G90` then
+/// `G91`); the order across groups does not. Each as (original line, None) or (None, edited
+/// line).
 fn reblocked(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
-    use Meaning as M;
-    let modal = |t: &Token, d: &Dialect| match about(t, d) {
-        About::Code(m) => matches!(
-            m,
-            M::PlaneXy
-                | M::PlaneXz
-                | M::PlaneYz
-                | M::UnitsInch
-                | M::UnitsMm
-                | M::DistanceAbsolute
-                | M::DistanceIncremental
-                | M::ArcDistanceAbsolute
-                | M::ArcDistanceIncremental
-                | M::FeedInverseTime
-                | M::FeedPerMinute
-                | M::FeedPerRev
-                | M::Wcs
-                | M::PathMode
-                | M::RetractInitial
-                | M::RetractR
-                | M::CycleCancel
-                | M::CompOff
-        ),
-        About::Address(Role::F) => t.value.parse::<f64>().is_ok(),
-        _ => false,
-    };
     let mut out = Vec::new();
     for h in hunks.iter().filter(|h| !h.original.is_empty() && !h.edited.is_empty() && h.original.len() + h.edited.len() <= 8) {
-        let words = |p: Program<'_>, s: &[Stmt], r: &std::ops::Range<usize>| {
-            let mut w: Vec<Token> =
-                r.clone().flat_map(|k| statement::tokens_in(&statement::text_of(p.text, p.dialect, &s[k]), p.dialect)).collect();
-            w.sort_by(|x, y| x.text.cmp(&y.text));
-            w
-        };
-        let (wa, wb) = (words(a, sa, &h.original), words(b, sb, &h.edited));
-        let same_words = wa.len() == wb.len() && wa.iter().zip(&wb).all(|(x, y)| x.text == y.text);
-        if same_words && !wa.is_empty() && wa.iter().all(|t| modal(t, a.dialect)) {
+        if let (Some(x), Some(y)) = (modal_state(a, sa, &h.original), modal_state(b, sb, &h.edited))
+            && !x.is_empty()
+            && x == y
+        {
             out.extend(h.original.clone().map(|k| (Some(sa[k].line), None)));
             out.extend(h.edited.clone().map(|k| (None, Some(sb[k].line))));
         }
     }
     out
+}
+
+/// The modal state the statements `r` of `p` set, by group: each group's last word, in one
+/// spelling (`G0090` is `G90`); `None` where one of their words is not a modal state's
+/// (see [`reblocked`]).
+fn modal_state(p: Program<'_>, s: &[Stmt], r: &std::ops::Range<usize>) -> Option<std::collections::BTreeMap<String, String>> {
+    use Meaning as M;
+    let mut state = std::collections::BTreeMap::new();
+    for k in r.clone() {
+        for t in statement::tokens_in(&statement::text_of(p.text, p.dialect, &s[k]), p.dialect) {
+            let group = match about(&t, p.dialect) {
+                About::Code(
+                    m @ (M::PlaneXy
+                    | M::PlaneXz
+                    | M::PlaneYz
+                    | M::UnitsInch
+                    | M::UnitsMm
+                    | M::DistanceAbsolute
+                    | M::DistanceIncremental
+                    | M::ArcDistanceAbsolute
+                    | M::ArcDistanceIncremental
+                    | M::FeedInverseTime
+                    | M::FeedPerMinute
+                    | M::FeedPerRev
+                    | M::Wcs
+                    | M::PathMode
+                    | M::RetractInitial
+                    | M::RetractR
+                    | M::CycleCancel
+                    | M::CompOff
+                    | M::LengthCompCancel),
+                ) => code_group(&t, p.dialect).map_or_else(|| format!("{m:?}"), |g| format!("group {g}")),
+                About::Address(Role::F) if t.value.parse::<f64>().is_ok() => "F".to_owned(),
+                _ => return None,
+            };
+            state.insert(group, t.text);
+        }
+    }
+    Some(state)
+}
+
+/// The dictionary's modal group of a G or M code token (`G90`).
+fn code_group(t: &Token, d: &Dialect) -> Option<usize> {
+    let letter @ ('G' | 'M') = t.key.chars().next()? else { return None };
+    let n = t.key[1..].parse::<f64>().ok()?;
+    d.code(letter, (n * 10.0).round().max(0.0) as u32).map(|c| c.group)
 }
 
 /// The moves `p`'s plan makes from each of `lines`, by line.
@@ -1240,6 +1260,9 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
             control::Flow::Branch if c.after.contains("GOTO") || c.before.contains("GOTO") => {
                 control::jump_part(&c.before, &c.after).to_owned()
             }
+            // A conditional jump whose differing words are its condition (Heidenhain `FN 9: IF
+            // +Q1 EQU +0 GOTO LBL 5` → `EQU +1`): the condition, not the target.
+            control::Flow::Jump if !it.diffs.iter().any(|x| control::jump_target_word(x, d)) => "condition".to_owned(),
             control::Flow::Jump => "jump target".to_owned(),
             _ => flow.field().to_owned(),
         };

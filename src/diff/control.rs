@@ -199,6 +199,34 @@ pub(super) fn jump_part(before: &str, after: &str) -> &'static str {
     }
 }
 
+/// Whether a differing word of a jump statement names where it jumps: one side's word holds a
+/// jump keyword or the label keyword of the dictionary (`GOTO`, `GOTOF`, `LBL`: `GOTO LBL 5`
+/// → `GOTO LBL 6`). Any other word of a jump statement is its condition (`FN 9: IF +Q1 EQU
+/// +0` → `EQU +1`, or `FN 9` → `FN 10`, the comparison).
+pub(super) fn jump_target_word(diff: &(Option<Token>, Option<Token>), d: &Dialect) -> bool {
+    let keywords: Vec<&str> = d
+        .macros
+        .statements
+        .iter()
+        .filter(|(_, s)| {
+            matches!(
+                s,
+                Statement::Goto
+                    | Statement::GotoForward
+                    | Statement::GotoBack
+                    | Statement::GotoQuiet
+                    | Statement::GotoLabel
+                    | Statement::Label
+            )
+        })
+        .filter_map(|(k, _)| k.split(' ').next())
+        .collect();
+    [&diff.0, &diff.1].into_iter().flatten().any(|t| {
+        let up = t.text.to_ascii_uppercase();
+        keywords.iter().any(|k| up.contains(&k.to_ascii_uppercase()))
+    })
+}
+
 /// How a branch statement nests (`IF` opens, `ENDIF` closes, `ELSE` neither); `None` for any
 /// other statement.
 pub(super) fn branch_depth(tokens: &[Token], d: &Dialect) -> Option<i32> {

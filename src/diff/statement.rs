@@ -148,7 +148,10 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
             faults.push(Fault { code: d.code, line: block.line, message: d.message });
         }
         buf.clear();
-        let statement = normalize(&block, dialect, &keywords, &mut buf);
+        let mut statement = normalize(&block, dialect, &keywords, &mut buf);
+        if statement.is_none() && !out.is_empty() && subprogram_start(&block, &mut buf) {
+            statement = Some(Class::Machining);
+        }
         fold_constants(&mut buf);
         jumps.block(&block, statement.is_some().then_some(buf.as_str()));
         locals.block(&block, &mut faults);
@@ -161,6 +164,17 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
     }
     faults.extend(jumps.missing());
     (out, faults)
+}
+
+/// Whether `block` is a program number alone, written as its statement (`O9001`) after `buf`.
+/// After statements (`O9001` after the main program's `M30`), it starts a subprogram the file
+/// holds: the label its calls name, a statement of its own; the file's own number, before
+/// anything runs, says nothing the machine does and is none.
+fn subprogram_start(block: &Block, buf: &mut String) -> bool {
+    let Some(n) = block.program_number.filter(|_| block.words.is_empty() && block.assigns.is_empty()) else { return false };
+    use std::fmt::Write as _;
+    let _ = write!(buf, "O{n}");
+    true
 }
 
 /// The start of the sentence of a fault at a jump never taken ([`Jumps`]).
@@ -397,7 +411,7 @@ pub fn text_of(text: &str, dialect: &Dialect, stmt: &Stmt) -> String {
     // The first block at or after the offset that is a statement (the offset is its start).
     while parser.next_block(&mut block, &mut diags) {
         buf.clear();
-        if normalize(&block, dialect, &keywords, &mut buf).is_some() {
+        if normalize(&block, dialect, &keywords, &mut buf).is_some() || (block.line == stmt.line && subprogram_start(&block, &mut buf)) {
             return buf;
         }
         if parser.line() > stmt.last + 1 {
@@ -567,10 +581,17 @@ fn legacy_cycle_word(w: &crate::syntax::Word, dialect: &Dialect) -> bool {
 
 /// Writes `s` in one spelling (see the module's doc) after `out`. `numbers_apart`: a blank
 /// between two numbers is kept (`CYCL DEF 9.1 10` is not `9.110`), where the dialect does not
-/// read blanks inside numbers.
+/// read blanks inside numbers. `keep_point`: a whole number's point is kept, where a word
+/// without one counts least increments; not inside square brackets, whose expression the
+/// control computes in real numbers, each constant with its point or without it the same
+/// (`COS[112.5 - 90]` is `COS[112.5 - 90.]`): only a plain number after an address is scaled
+/// (the reference's Mitsubishi M700V rule, "when a four rules operator is contained, the data
+/// will be handled as that with a decimal point", and the interpreter's reading, which scales
+/// no bracketed value).
 fn canon(s: &str, (keep_point, numbers_apart): (bool, bool), out: &mut String) {
     let b = s.as_bytes();
     let mut i = 0;
+    let mut depth = 0usize;
     let mut quoted = false;
     let mut space = false;
     let ident = |c: Option<char>| c.is_some_and(|c| c.is_alphabetic() || c == '_');
@@ -619,7 +640,7 @@ fn canon(s: &str, (keep_point, numbers_apart): (bool, bool), out: &mut String) {
                 if last == Some('-') && prev.is_some_and(|p| p.is_ascii_alphabetic()) && run.bytes().all(|x| x == b'0' || x == b'.') {
                     out.pop();
                 }
-                number(run, keep_point, out);
+                number(run, keep_point && depth == 0, out);
             } else {
                 out.push_str(run);
             }
@@ -635,6 +656,11 @@ fn canon(s: &str, (keep_point, numbers_apart): (bool, bool), out: &mut String) {
         {
             i += 1;
             continue;
+        }
+        match c {
+            b'[' => depth += 1,
+            b']' => depth = depth.saturating_sub(1),
+            _ => {}
         }
         out.push(ch);
         i += 1;

@@ -1523,3 +1523,19 @@ fn a_move_to_an_incremental_number_is_no_move_by_variables() {
     let rows = kind_rows(&a, &b, "siemens");
     assert!(rows.iter().any(|r| r.starts_with("toolpath_changed | moves")), "{rows:#?}");
 }
+
+#[test]
+fn a_conditional_jump_s_condition_is_told_as_its_condition() {
+    // Heidenhain FN 9 (IF equal, GOTO): the comparison's value or its function edited is the
+    // condition; the label it jumps to, the target.
+    let a = "0 BEGIN PGM FN9 MM\n1 TOOL CALL 1 Z S3000 F500\n2 Q1 = 0\n3 L Z+50 R0 FMAX M3\n4 FN 9: IF +Q1 EQU +0 GOTO LBL 5\n5 L X+10 Y+10 R0 FMAX\n6 LBL 5\n7 L X+50 Y+50 R0 FMAX\n8 LBL 6\n9 L Z+50 R0 FMAX M30\n10 END PGM FN9 MM\n";
+    for edit in ["FN 9: IF +Q1 EQU +1 GOTO LBL 5", "FN 10: IF +Q1 NE +0 GOTO LBL 5"] {
+        let b = a.replace("FN 9: IF +Q1 EQU +0 GOTO LBL 5", edit);
+        let rows = kind_rows(a, &b, "heidenhain");
+        assert!(rows.iter().any(|r| r.starts_with("flow_changed | condition")), "{edit}: {rows:#?}");
+        assert!(!rows.iter().any(|r| r.contains("jump target")), "{edit}: {rows:#?}");
+    }
+    let b = a.replace("GOTO LBL 5", "GOTO LBL 6");
+    let rows = kind_rows(a, &b, "heidenhain");
+    assert!(rows.iter().any(|r| r.starts_with("flow_changed | jump target")), "{rows:#?}");
+}
