@@ -264,17 +264,15 @@ fn flatten(block: &mut Block) {
     }
     // An operand that went with its operation has no step of its own: one of its own, for
     // whoever evaluates it alone (a word's parameter number).
-    for id in 0..block.exprs.len() {
+    for (id, span) in spans.iter_mut().enumerate().filter(|(_, span)| span.1 == 0) {
         let step = match operand(block, BinOp::Add, id as ExprId) {
             Some(FlatOp::BinaryNum(_, v)) => FlatOp::Num(v),
             Some(FlatOp::BinaryParam(_, i)) => FlatOp::Param(i),
             Some(FlatOp::BinarySlot(_, s)) => FlatOp::Slot(s),
             _ => continue,
         };
-        if spans[id].1 == 0 {
-            spans[id] = (flat.len() as u32, flat.len() as u32 + 1);
-            flat.push(step);
-        }
+        *span = (flat.len() as u32, flat.len() as u32 + 1);
+        flat.push(step);
     }
     block.flat = flat;
     block.flat_spans = spans;
