@@ -211,6 +211,25 @@ pub fn resolve(block: &mut Block, params: &mut Params) {
     flatten(block);
 }
 
+/// Resolves the numbered parameters `block`'s assignments set by a number written out (`Q3 =
+/// ..`, `#101 = ..`, `R1=..`) to their index in the table ([`resolved_assign`]), where
+/// `ordinary` says the control keeps an ordinary value there (no system variable, not the
+/// vacant `#0`): the block's passes then write them without a look at the number. After
+/// [`resolve`], for a block kept to run again.
+pub fn resolve_numbered(block: &mut Block, ordinary: impl Fn(u32) -> bool) {
+    for (k, a) in block.assigns.iter().enumerate() {
+        if let crate::syntax::ParamTarget::Numbered(e) = a.target
+            && let Some(&Expr::Num(n)) = block.exprs.get(e as usize)
+            && (0.0..MAX_PARAM as f64).contains(&n)
+            && (n as usize) as f64 == n
+            && ordinary(n as u32)
+            && let Some(r) = block.resolved.get_mut(block.exprs.len() + k)
+        {
+            *r = n as u32;
+        }
+    }
+}
+
 /// The deepest stack of values a flat expression may need ([`FlatOp`]); a deeper one is
 /// left to the tree.
 const FLAT_STACK: usize = 8;
@@ -242,6 +261,18 @@ fn flatten(block: &mut Block) {
     }
     for (root, _) in inner.iter().enumerate().filter(|(_, inner)| !**inner) {
         flatten_expr(block, root as ExprId, &mut flat, &mut spans, 0);
+    }
+    // An operand that went with its operation has no step of its own: one of its own, for
+    // whoever evaluates it alone (a word's parameter number).
+    for (id, span) in spans.iter_mut().enumerate().filter(|(_, span)| span.1 == 0) {
+        let step = match operand(block, BinOp::Add, id as ExprId) {
+            Some(FlatOp::BinaryNum(_, v)) => FlatOp::Num(v),
+            Some(FlatOp::BinaryParam(_, i)) => FlatOp::Param(i),
+            Some(FlatOp::BinarySlot(_, s)) => FlatOp::Slot(s),
+            _ => continue,
+        };
+        *span = (flat.len() as u32, flat.len() as u32 + 1);
+        flat.push(step);
     }
     block.flat = flat;
     block.flat_spans = spans;
@@ -303,11 +334,26 @@ fn flatten_expr(block: &Block, id: ExprId, flat: &mut Vec<FlatOp>, spans: &mut [
             flat.push(FlatOp::Atan2);
             d
         }
-        Expr::Binary(op, a, b) => {
-            let d = sub(a, flat).max(1 + sub(b, flat));
-            flat.push(FlatOp::Binary(op));
-            d
-        }
+        // An operand read and used at once goes with its operation: the right one, or the
+        // left one where the operands may change places (IEEE 754 addition and
+        // multiplication give the same bits either way).
+        Expr::Binary(op, a, b) => match (operand(block, op, b), operand(block, op, a)) {
+            (Some(with), _) => {
+                let d = sub(a, flat);
+                flat.push(with);
+                d
+            }
+            (None, Some(with)) if matches!(op, BinOp::Add | BinOp::Mul) => {
+                let d = sub(b, flat);
+                flat.push(with);
+                d
+            }
+            _ => {
+                let d = sub(a, flat).max(1 + sub(b, flat));
+                flat.push(FlatOp::Binary(op));
+                d
+            }
+        },
     };
     // A span only where the stack it needs is at hand (an expression written twice keeps
     // its first).
@@ -315,6 +361,21 @@ fn flatten_expr(block: &Block, id: ExprId, flat: &mut Vec<FlatOp>, spans: &mut [
         spans[id as usize] = (start, flat.len() as u32);
     }
     depth
+}
+
+/// The step that applies `op` with expression `id` of `block` for its operand, where that is
+/// one `flatten_expr` writes in a single step: a number, a numbered parameter of a whole
+/// number in the table, a name resolved to its slot.
+fn operand(block: &Block, op: BinOp, id: ExprId) -> Option<FlatOp> {
+    match *block.exprs.get(id as usize)? {
+        Expr::Num(v) if !v.is_nan() => Some(FlatOp::BinaryNum(op, v)),
+        Expr::Param(inner) => match *block.exprs.get(inner as usize)? {
+            Expr::Num(n) if (0.0..MAX_PARAM as f64).contains(&n) && (n as usize) as f64 == n => Some(FlatOp::BinaryParam(op, n as u32)),
+            _ => None,
+        },
+        Expr::Named(_) => resolved(block, id).map(|s| FlatOp::BinarySlot(op, s)),
+        _ => None,
+    }
 }
 
 /// Evaluates the flat steps `ops` ([`flatten`]) as [`eval_tree`] evaluates their tree: `None`
@@ -372,13 +433,20 @@ fn eval_flat(ops: &[FlatOp], params: &Params) -> Option<f64> {
             }
             FlatOp::Binary(op) => {
                 below = below.wrapping_sub(1);
-                let a = stack[below & MASK];
-                match op {
-                    BinOp::Add => a + acc,
-                    BinOp::Sub => a - acc,
-                    BinOp::Mul => a * acc,
-                    _ => binary_value(op, a, acc, |c: bool| f64::from(u8::from(c))).ok()?,
-                }
+                operate(op, stack[below & MASK], acc)?
+            }
+            // The operand goes right: where it was the left one, the operation is one whose
+            // operands may change places (`flatten_expr`).
+            FlatOp::BinaryNum(op, v) => operate(op, acc, v)?,
+            FlatOp::BinaryParam(op, i) => {
+                let v = params.numbered.get(i as usize);
+                nan |= v.is_nan();
+                operate(op, acc, v)?
+            }
+            FlatOp::BinarySlot(op, s) => {
+                let v = (*params.named.values.get(s as usize)?)?;
+                nan |= v.is_nan();
+                operate(op, acc, v)?
             }
             FlatOp::Fail => return None,
         };
@@ -387,13 +455,25 @@ fn eval_flat(ops: &[FlatOp], params: &Params) -> Option<f64> {
     (!nan && below == 1).then_some(acc)
 }
 
+/// `a op b` as [`eval_tree`] computes it for ordinary numbers; `None` where it gives none.
+#[inline(always)]
+fn operate(op: BinOp, a: f64, b: f64) -> Option<f64> {
+    match op {
+        BinOp::Add => Some(a + b),
+        BinOp::Sub => Some(a - b),
+        BinOp::Mul => Some(a * b),
+        _ => binary_value(op, a, b, |c: bool| f64::from(u8::from(c))).ok(),
+    }
+}
+
 /// The slot expression `id` of `block` names, where the block has its names resolved.
 #[inline]
 pub fn resolved(block: &Block, id: ExprId) -> Option<u32> {
     block.resolved.get(id as usize).copied().filter(|&s| s != NO_SLOT)
 }
 
-/// The slot assignment `k` of `block` sets, where the block has its names resolved.
+/// The slot assignment `k` of `block` sets, where the block has its names resolved, or the
+/// index of the numbered parameter it sets, where [`resolve_numbered`] resolved it.
 #[inline]
 pub fn resolved_assign(block: &Block, k: usize) -> Option<u32> {
     block.resolved.get(block.exprs.len() + k).copied().filter(|&s| s != NO_SLOT)
@@ -666,6 +746,12 @@ impl Params {
             }
             None => self.unset_named(self.slot_name(s)),
         }
+    }
+
+    /// Sets numbered parameter `i`, an index [`resolve_numbered`] gave (in the table).
+    #[inline]
+    pub fn set_resolved(&mut self, i: u32, v: f64) {
+        self.numbered.set(i as usize, v);
     }
 
     /// Sets the named parameter in slot `s`.
@@ -955,6 +1041,10 @@ mod tests {
             "#<g> = [#6 + 1] #<h> = [SQRT[-#2]] #<i> = [#7 * 2]",
             "G1 X[#<x> * 2] Y#<x> Z-#1",
             deep.as_str(),
+            // An operand taken with its operation: right or (added, multiplied) left, a
+            // vacant, unknown or unset one, an operation on it without a value.
+            "#<j> = [2 - #1 / #<x> + [#1 - #3] * #2 MOD 7] #<k> = [0.5 * [#1 + #2] + #6] #<l> = [#7 + [1 - #1]]",
+            "#<m> = [#<nowhere> * [#1 + 1]] #<n> = [[#1 + 1] / 0] #<o> = [[#1 * #2] LT 1000 AND [#3 EQ 3]]",
         ]
         .join("\n");
         let mut params = Params::new(false);
@@ -975,7 +1065,7 @@ mod tests {
                 flat_ones += usize::from(block.flat_spans[id as usize].1 > block.flat_spans[id as usize].0);
             }
         }
-        assert_eq!(blocks, 9);
+        assert_eq!(blocks, 11);
         assert!(flat_ones > 40, "{flat_ones}");
         // Values: the second block's, and the deep one's by the tree.
         let b = {
@@ -987,5 +1077,9 @@ mod tests {
         };
         let want = 2.5 * 0.1 + (30.0f64 * 3.6).to_radians().sin() * (1.25f64 * 3.6).to_radians().cos() - 1.0;
         assert_eq!(eval_fast(&b, b.assigns[0].value, &params), Some(want));
+        // Its numbers and names go with their operations (`* 0.1`, `* 3.6` twice, `- 1`):
+        // eleven steps, not fifteen.
+        let (start, end) = b.flat_spans[b.assigns[0].value as usize];
+        assert_eq!(end - start, 11, "{:?}", &b.flat[start as usize..end as usize]);
     }
 }

@@ -2242,6 +2242,12 @@ impl<'a> Interpreter<'a> {
                 self.params.set_slot(slot, value);
             }
             ParamTarget::Numbered(e) => {
+                if let Some(i) = eval::resolved_assign(block, 0) {
+                    // An ordinary parameter, resolved once when the block was kept.
+                    self.params.set_resolved(i, value);
+                    self.params.take_unknown_read();
+                    return true;
+                }
                 let Some(n) = eval::eval_fast(block, e, &self.params) else { return false };
                 let whole = n >= 0.0 && n <= f64::from(u32::MAX) && f64::from(n as u32) == n;
                 if !whole || self.dialect.macros.system_var(n as u32).is_some() || (n == 0.0 && self.dialect.macros.null_value) {

@@ -188,7 +188,9 @@ pub enum Expr {
 /// One step of an expression written in postfix order ([`super::Block::flat`]): the form in
 /// which the interpreter evaluates a block it runs again, once its names are resolved to
 /// slots, without a walk of the tree or an allocation. A step takes its operands from the
-/// top of a stack of values and leaves its result there.
+/// top of a stack of values and leaves its result there; an operation with a number or a
+/// parameter for an operand takes that operand with it, so that a value read and used at
+/// once is never put on the stack.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FlatOp {
     /// A number.
@@ -205,6 +207,14 @@ pub enum FlatOp {
     Atan2,
     /// A binary operation on the two values on top (the left operand below).
     Binary(BinOp),
+    /// A binary operation on the value on top and this number (`#1 * 0.1`), which is the
+    /// right operand, or the left one of an operation whose operands may change places
+    /// (`0.5 * SIN[..]`: addition and multiplication give the same bits either way).
+    BinaryNum(BinOp, f64),
+    /// As [`FlatOp::BinaryNum`], the operand the numbered parameter of this whole number.
+    BinaryParam(BinOp, u32),
+    /// As [`FlatOp::BinaryNum`], the operand the named parameter in this slot.
+    BinarySlot(BinOp, u32),
     /// A step the flat form does not take (a text, an array element, `EXISTS`, a name
     /// without a slot): the expression goes the general way.
     Fail,

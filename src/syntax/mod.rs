@@ -242,13 +242,18 @@ pub struct Block {
     pub axis_refs: Vec<(usize, ExprId)>,
     /// Where the interpreter keeps a block it runs again (a loop's, a subroutine's): the
     /// slots its parameter names were resolved to, by expression and then by assignment
-    /// (`u32::MAX` where there is no name). Empty as the parser leaves it; the names then
+    /// (`u32::MAX` where there is no name; an assignment to an ordinary numbered parameter
+    /// written out, its number). Empty as the parser leaves it; the names then
     /// resolve as they are read.
     pub resolved: Vec<u32>,
     /// Where the interpreter keeps a block it runs again: whether the block reads none of the
     /// control's system variables (the position, the tool, the modes), so that its runs need
     /// not bring them up to date first. False as the parser leaves it.
     pub reads_no_system: bool,
+    /// Where the interpreter keeps a block it runs again: whether no expression of the block
+    /// reads by number a variable the outside writes (the dictionary's `outside-variables`),
+    /// so that its conditions' runs need not look for one. False as the parser leaves it.
+    pub reads_no_outside: bool,
     /// Where the interpreter keeps a block it runs again: its expressions in postfix order,
     /// names as their slots ([`FlatOp`]); `flat_spans` gives by expression the steps
     /// `start..end` that compute it (an empty span: none). Empty as the parser leaves it.
@@ -286,6 +291,7 @@ impl Clone for Block {
         self.axis_refs.clone_from(&o.axis_refs);
         self.resolved.clone_from(&o.resolved);
         self.reads_no_system = o.reads_no_system;
+        self.reads_no_outside = o.reads_no_outside;
         self.flat.clone_from(&o.flat);
         self.flat_spans.clone_from(&o.flat_spans);
         self.source.clone_from(&o.source);
@@ -346,6 +352,7 @@ impl Block {
         self.axis_refs.clear();
         self.resolved.clear();
         self.reads_no_system = false;
+        self.reads_no_outside = false;
         self.flat.clear();
         self.flat_spans.clear();
     }

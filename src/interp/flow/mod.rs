@@ -397,6 +397,25 @@ enum Way {
     On,
 }
 
+/// Whether `v` is a whole number a variable may be numbered by (compared, not `fract`: a
+/// call to `trunc` per condition).
+fn whole(v: f64) -> bool {
+    v >= 0.0 && v <= f64::from(u32::MAX) && f64::from(v as u32) == v
+}
+
+/// Whether no expression of `block` reads by number a variable in `outside` (the
+/// dictionary's `outside-variables`): what [`Driver::note_reads`] would find in none of its
+/// conditions, found once for a block kept to run again ([`Block::reads_no_outside`]).
+fn reads_no_outside(block: &Block, outside: &[(u32, u32)]) -> bool {
+    !block.exprs.iter().any(|e| match *e {
+        Expr::Param(n) => match block.exprs.get(n as usize) {
+            Some(&Expr::Num(v)) if whole(v) => outside.iter().any(|&(lo, hi)| (lo..=hi).contains(&(v as u32))),
+            _ => false,
+        },
+        _ => false,
+    })
+}
+
 /// Whether expression `e` reads no parameter (`+0 EQU +0`).
 fn constant(b: &Block, e: ExprId) -> bool {
     match b.exprs.get(e as usize) {
@@ -839,7 +858,10 @@ impl<'a> Driver<'a, '_> {
             if cache && self.lexed.len() < BLOCK_CACHE && !self.lexed.contains_key(&key) {
                 // Its names resolved once, for the runs to come.
                 eval::resolve(block, &mut interp.params);
+                let macros = &self.dialect.macros;
+                eval::resolve_numbered(block, |n| macros.system_var(n).is_none() && !(n == 0 && macros.null_value));
                 block.reads_no_system = !interp.reads_system(block);
+                block.reads_no_outside = reads_no_outside(block, &self.dialect.macros.outside);
                 let k = self.kept.len() as u32;
                 self.lexed.insert(key, k);
                 let lane = replay::lane(block);
@@ -1341,7 +1363,8 @@ impl<'a> Driver<'a, '_> {
     /// reads by number (`#890`, `R5`). Without allocation: conditions run in every loop round.
     fn note_reads(&mut self, block: &Block, e: ExprId) {
         let outside = &self.dialect.macros.outside;
-        if outside.is_empty() {
+        // A kept block was looked into once, when it was kept.
+        if outside.is_empty() || block.reads_no_outside {
             return;
         }
         // Conditions are small: a fixed stack, and what does not fit is not looked into.
@@ -1351,8 +1374,7 @@ impl<'a> Driver<'a, '_> {
             len -= 1;
             let (a, b) = match block.exprs.get(stack[len] as usize) {
                 Some(&Expr::Param(n)) => match block.exprs.get(n as usize) {
-                    // A whole number, compared, not `fract` (a call to `trunc` per condition).
-                    Some(&Expr::Num(v)) if v >= 0.0 && v <= f64::from(u32::MAX) && f64::from(v as u32) == v => {
+                    Some(&Expr::Num(v)) if whole(v) => {
                         let v = v as u32;
                         if outside.iter().any(|&(lo, hi)| (lo..=hi).contains(&v)) && !self.cond_reads.contains(&v) {
                             self.cond_reads.push(v);

@@ -1012,5 +1012,6 @@ fn branch_of(block: &Block, o: &Otherwise, then: bool) -> Block {
     b.flat.clear();
     b.flat_spans.clear();
     b.reads_no_system = false;
+    b.reads_no_outside = false;
     b
 }
