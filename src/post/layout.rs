@@ -64,7 +64,9 @@ impl Class {
             | Value::Sdis
             | Value::Depth
             | Value::ClearDist
-            | Value::Peck => Class::Position,
+            | Value::Peck
+            | Value::CylRadius
+            | Value::CylDiameter => Class::Position,
             Value::F | Value::Pitch => Class::Feed,
             _ => Class::Other,
         }
