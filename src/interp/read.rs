@@ -340,9 +340,18 @@ impl Interpreter<'_> {
             },
         };
         v = self.least_increment(block, w, role, v, how, diags);
-        // Under `DIAM90` an incremental X (G91, `X=IC()`) is a radius.
+        // Under `DIAM90` an incremental X (G91, in this block or in force, or `X=IC()`) is a radius.
         let incremental = match w.mode {
-            WordMode::Modal => self.st.distance == DistanceMode::Incremental,
+            WordMode::Modal => self
+                .codes
+                .iter()
+                .rev()
+                .find_map(|&(c, _)| match self.code(c).meaning {
+                    Meaning::DistanceIncremental => Some(true),
+                    Meaning::DistanceAbsolute => Some(false),
+                    _ => None,
+                })
+                .unwrap_or(self.st.distance == DistanceMode::Incremental),
             mode => mode == WordMode::Incremental,
         };
         if how.diameter && role == Role::X && !(how.diameter_absolute && incremental) {
@@ -357,6 +366,18 @@ impl Interpreter<'_> {
     /// second one's. `None`, with the finding, when the block has that address already.
     fn free_role(&self, block: &Block, w: &Word, diags: &mut Vec<Diagnostic>) -> Option<Role> {
         let mut role = w.role;
+        // Words kept but not interpreted (`DISR=1 DISCL=2`): two addresses of that role are two
+        // addresses; only the same one written twice is a duplicate.
+        if role == Role::Extra
+            && let Some(s) = self.slots[role as usize]
+        {
+            let name = |r: TextRange| {
+                block.text(r).trim().chars().take_while(|c| c.is_ascii_alphabetic() || *c == '_').collect::<String>().to_ascii_uppercase()
+            };
+            if name(s.range) != name(w.range) {
+                return Some(role);
+            }
+        }
         if self.slots[role as usize].is_some() {
             // An address that may appear twice gives its second occurrence another role.
             let again = self.dialect.addresses.iter().find(|a| a.role == role).and_then(|a| a.again);

@@ -523,7 +523,8 @@ fn siemens_smooth_approach_and_retraction_are_kept_as_intent() {
 G1 X50 Z-25\nG40 G148 DISR=1\nG0 X150 Z50\nG41 G247 G341 DISR=5 F0.1\nG1 X40 Z-5\nG40 G348 DISR=5\nM30\n";
     assert_eq!(errors("siemens", program), Vec::<String>::new());
     let (moves, diags) = crate::moves_and_findings("siemens", program, &Profile::default());
-    for code in ["G147", "G148", "G247", "G341", "G348"] {
+    // The first three such codes are told; the others counted in a note.
+    for code in ["G147", "G148", "G247"] {
         assert!(diags.iter().any(|d| d.code.as_str() == "syntax::unmodelled" && d.message.contains(code)), "{code}: {diags:?}");
     }
     // The cone as written, in radii: no approach path invented.
