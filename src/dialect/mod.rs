@@ -493,6 +493,14 @@ pub struct Behaviour {
     /// reset, where its milling ones do not (SINUMERIK `DIAMON` and `G18` in a lathe's reset
     /// values): a program that shows it turns is read so (`interp::x-words-diameter`).
     pub lathe_x_diameter: bool,
+    /// Whether, under diameter programming, an arc centre's X given absolute (`I=AC(50)`) is
+    /// a diameter as the X words are, where one given incrementally stays a radius (SINUMERIK
+    /// Operate's contour circle: "I circle centre point ∅ (abs) or I (inc)").
+    pub absolute_centre_x_diameter: bool,
+    /// Whether a rounding or chamfer written on a move (`RND=`, `CHR=`) that is too large for
+    /// a move beside its corner is made smaller to fit, rather than refused (SINUMERIK:
+    /// "automatically reduced if the contour length of an involved block is insufficient").
+    pub corners_reduced: bool,
     /// Whether the machine's configuration states how X words read (`x_words`), which a
     /// program's habit then does not override.
     pub x_words_stated: bool,

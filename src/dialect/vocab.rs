@@ -252,6 +252,9 @@ vocab! {
         DiameterMode = "diameter-mode",
         /// Lathe radius mode (G8): X words give radii.
         RadiusMode = "radius-mode",
+        /// Diameter programming for absolute dimensions only (SINUMERIK `DIAM90`): an X word
+        /// in G90 or `AC()` gives a diameter, one in G91 or `IC()` a radius.
+        DiameterAbsolute = "diameter-absolute",
         /// Dwell (G4).
         Dwell = "dwell",
         /// Set offsets or tool data (G10).
@@ -386,6 +389,10 @@ vocab! {
         /// Chamfers the corner between the straight moves before and after the block, cutting
         /// back the given length along each (`CHF 2`).
         CornerChamfer = "corner-chamfer",
+        /// Modal rounding (Siemens `RNDM=2`, its value in `corner-radius`): the corner at the
+        /// end of this block's move and every one after it rounded with an arc of that radius,
+        /// until a value of 0.
+        RoundModal = "round-modal",
         /// Approaches the contour point of the block on a straight line tangent to the first
         /// contour element, from an auxiliary point LEN before it (`APPR LT`).
         ApproachTangent = "approach-tangent",

@@ -120,6 +120,9 @@ pub(super) struct Corners {
     plane: Option<Plane>,
     /// Whether the last move was an arc feed (a corner after it has an arc beside it).
     after_arc: bool,
+    /// Whether the control makes a corner too large for a move beside it smaller, to fit
+    /// (the dialect's `corner-too-large="reduced"`), rather than refusing it.
+    reduce: bool,
 }
 
 impl Corners {
@@ -127,6 +130,11 @@ impl Corners {
     /// (as the canonical calls have it) in `plane`.
     pub(super) fn starting_at(plane: Plane, pos: [f64; 6]) -> Corners {
         Corners { pos: Some(pos), plane: Some(plane), ..Corners::default() }
+    }
+
+    /// The stage, making corners too large for their moves smaller where `reduce`.
+    pub(super) fn reducing(self, reduce: bool) -> Corners {
+        Corners { reduce, ..self }
     }
 
     /// A corner block: the corner at the end of the held move is to be rounded or chamfered.
@@ -310,13 +318,27 @@ impl Corners {
             self.problem = Some(CornerProblem::NotPlanar);
         }
         // Along each move, how far from the corner the new element starts and ends.
-        let back = match corner {
+        let mut back = match corner {
             Corner::Chamfer(l) => l,
             // Equal legs l under a chord c: c = 2·l·cos(θ/2), θ the turn between the moves.
             Corner::ChamferLength(c) => c / (2.0 * (1.0 + cos)).max(1e-24).sqrt(),
             Corner::Round(r) => r * ((1.0 - cos) / (1.0 + cos).max(1e-12)).sqrt(), // r·tan(θ/2)
         };
-        let fits = back <= len(sub(c, s)) + 1e-9 && back <= len(sub(e, c)) + 1e-9;
+        let room = len(sub(c, s)).min(len(sub(e, c)));
+        let mut corner = corner;
+        if back > room + 1e-9 && self.reduce && planar {
+            // Made smaller to fit the shorter move (SINUMERIK: "the programmed value for
+            // chamfer and rounding is automatically reduced if the contour length of an
+            // involved block is insufficient"); how much the control takes off where one short
+            // move has a corner at each end is not documented: here the first takes its share.
+            let k = room / back;
+            back = room;
+            corner = match corner {
+                Corner::Round(r) => Corner::Round(r * k),
+                other => other,
+            };
+        }
+        let fits = back <= room + 1e-9;
         if !fits {
             self.problem = Some(CornerProblem::TooLarge);
         }

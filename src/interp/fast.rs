@@ -91,7 +91,7 @@ impl Interpreter<'_> {
     }
 
     /// Whether the state lets a block be a plain move at all: no modal cycle or macro, no
-    /// message waiting for a stop, no diameter programming, no NURBS curve under way, no
+    /// message waiting for a stop, no diameter programming, no modal rounding (`RNDM`), no NURBS curve under way, no
     /// face (`TRANSMIT`, `G12.1`) or cylinder (`TRACYL`, `G7.1`) interpolation, whose words
     /// are not the machine's axes (`face_plane` is set under both).
     #[inline(always)]
@@ -100,6 +100,7 @@ impl Interpreter<'_> {
             || self.st.modal_macro.is_some()
             || self.stop_message.is_some()
             || self.st.diameter
+            || self.st.round_modal.is_some()
             || self.st.face_plane.is_some()
             || self.st.tcp
             || self.st.nurbs.is_some())

@@ -663,6 +663,12 @@ struct State {
     leaving_comp: bool,
     /// Lathe diameter mode (G7): X words give diameters.
     diameter: bool,
+    /// With `diameter`, only absolute X words give diameters; incremental ones radii
+    /// (SINUMERIK `DIAM90`).
+    diameter_absolute: bool,
+    /// Modal rounding (Siemens `RNDM=`): the radius every corner between two moves is
+    /// rounded with, until `RNDM=0`.
+    round_modal: Option<f64>,
     /// Constant surface speed (G96): S is a surface speed, and this is the spindle's
     /// speed limit; `None` in G97, where S is in revolutions per minute.
     css_max: Option<f64>,
@@ -775,6 +781,8 @@ impl State {
             angle_line: None,
             leaving_comp: false,
             diameter: (dialect.behaviour.x_diameter || profile.lathe_reset) && !profile.x_radius,
+            diameter_absolute: false,
+            round_modal: None,
             css_max: None,
             spindle_limit: None,
             cycle_initial: None,
@@ -871,7 +879,7 @@ fn corner_stage(dialect: &Dialect) -> Option<corner::Corners> {
         .codes
         .iter()
         .any(|c| matches!(c.meaning, Meaning::CornerRound | Meaning::CornerChamfer | Meaning::ApproachTangent | Meaning::ApproachNormal))
-        .then(corner::Corners::default)
+        .then(|| corner::Corners::default().reducing(dialect.behaviour.corners_reduced))
 }
 
 /// The roles of corner words, as bits of `Interpreter::filled`.
@@ -1670,7 +1678,8 @@ impl<'a> Interpreter<'a> {
         } else {
             at
         };
-        *self.corners.get_mut() = Some(corner::Corners::starting_at(self.st.plane, at));
+        let reduce = self.dialect.behaviour.corners_reduced;
+        *self.corners.get_mut() = Some(corner::Corners::starting_at(self.st.plane, at).reducing(reduce));
     }
 
     fn slot(&self, role: Role) -> Option<f64> {
@@ -1943,6 +1952,7 @@ impl<'a> Interpreter<'a> {
             && self.code_steps == 0
             && block.comments.is_empty()
             && self.stop_message.is_none()
+            && self.st.round_modal.is_none()
             && self.filled
                 & (1 << Role::F as u32 | 1 << Role::S as u32 | 1 << Role::T as u32 | 1 << Role::SpindleLimit as u32 | CORNER_WORDS)
                 == 0

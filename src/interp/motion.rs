@@ -174,7 +174,16 @@ impl Interpreter<'_> {
                 _ if self.dialect.behaviour.arc_centres_pole => self.st.distance == DistanceMode::Incremental,
                 _ => self.st.arc_incremental,
             };
-            if incremental { start[axis] + o } else { o }
+            // Under diameter programming an absolute X centre is a diameter where the control
+            // reads it so (SINUMERIK `I=AC(50)`: `arc-centre-x="diameter-absolute"`).
+            let halved = axis == 0 && self.st.diameter && self.dialect.behaviour.absolute_centre_x_diameter;
+            if incremental {
+                start[axis] + o
+            } else if halved {
+                o / 2.0
+            } else {
+                o
+            }
         };
         Some((centre(a0), centre(a1)))
     }

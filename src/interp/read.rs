@@ -22,6 +22,8 @@ struct WordReading {
     units: Units,
     /// Whether X gives a diameter (G7 in the block counts already).
     diameter: bool,
+    /// Whether only an absolute X gives one (`DIAM90`; in the block counts already).
+    diameter_absolute: bool,
     /// Whether K counts a drilling cycle's repeats, no length.
     k_counts: bool,
     /// The role of the sequence number a subprogram call starts at (`M98 Q2100`), read as a
@@ -244,11 +246,12 @@ impl Interpreter<'_> {
         let units = units.unwrap_or(self.st.units);
         // G7 in this block already reads its X words as diameters.
         let diameter = self.codes.iter().rev().find_map(|(c, _)| match self.code(*c).meaning {
-            Meaning::DiameterMode => Some(true),
-            Meaning::RadiusMode => Some(false),
+            Meaning::DiameterMode => Some((true, false)),
+            Meaning::RadiusMode => Some((false, false)),
+            Meaning::DiameterAbsolute => Some((true, true)),
             _ => None,
         });
-        let diameter = diameter.unwrap_or(self.st.diameter);
+        let (diameter, diameter_absolute) = diameter.unwrap_or((self.st.diameter, self.st.diameter_absolute));
         // In a drilling cycle's block (its own or the one in force) K counts repeats: no length.
         let is_hole_cycle = |m: Meaning| {
             matches!(
@@ -276,7 +279,7 @@ impl Interpreter<'_> {
             let tilt = !def.tilt_forms.is_empty();
             def.args.iter().find(|&&(_, to)| tilt && to == Role::TiltMode).map(|&(from, _)| from)
         });
-        WordReading { units, diameter, k_counts, call_start, selector }
+        WordReading { units, diameter, diameter_absolute, k_counts, call_start, selector }
     }
 
     /// Word `k` of the block, not a code: into its slot, or the named cycle's arguments. An
@@ -337,7 +340,21 @@ impl Interpreter<'_> {
             },
         };
         v = self.least_increment(block, w, role, v, how, diags);
-        if how.diameter && role == Role::X {
+        // Under `DIAM90` an incremental X (G91, in this block or in force, or `X=IC()`) is a radius.
+        let incremental = match w.mode {
+            WordMode::Modal => self
+                .codes
+                .iter()
+                .rev()
+                .find_map(|&(c, _)| match self.code(c).meaning {
+                    Meaning::DistanceIncremental => Some(true),
+                    Meaning::DistanceAbsolute => Some(false),
+                    _ => None,
+                })
+                .unwrap_or(self.st.distance == DistanceMode::Incremental),
+            mode => mode == WordMode::Incremental,
+        };
+        if how.diameter && role == Role::X && !(how.diameter_absolute && incremental) {
             v /= 2.0;
         }
         self.slots[role as usize] = Some(Slot { value: v, range: w.range, mode: w.mode });
@@ -349,6 +366,18 @@ impl Interpreter<'_> {
     /// second one's. `None`, with the finding, when the block has that address already.
     fn free_role(&self, block: &Block, w: &Word, diags: &mut Vec<Diagnostic>) -> Option<Role> {
         let mut role = w.role;
+        // Words kept but not interpreted (`DISR=1 DISCL=2`): two addresses of that role are two
+        // addresses; only the same one written twice is a duplicate.
+        if role == Role::Extra
+            && let Some(s) = self.slots[role as usize]
+        {
+            let name = |r: TextRange| {
+                block.text(r).trim().chars().take_while(|c| c.is_ascii_alphabetic() || *c == '_').collect::<String>().to_ascii_uppercase()
+            };
+            if name(s.range) != name(w.range) {
+                return Some(role);
+            }
+        }
         if self.slots[role as usize].is_some() {
             // An address that may appear twice gives its second occurrence another role.
             let again = self.dialect.addresses.iter().find(|a| a.role == role).and_then(|a| a.again);

@@ -553,3 +553,130 @@ fn linuxcnc_a_subroutine_files_endsub_of_another_name_returns_with_a_warning() {
     let in_flow = "G0 X0\no<a> sub\nG0 X1\no<b> endsub\no<a> call\nM2\n";
     assert!(errors("linuxcnc", in_flow).iter().any(|e| e.starts_with("flow::missing-label")), "{:?}", errors("linuxcnc", in_flow));
 }
+
+/// Sweep 16 (g006): the SINUMERIK's smooth approach and retraction (840D sl programming
+/// manual, fundamentals, "Approach and retraction (G140 to G143, G147, G148, G247, G248, G347,
+/// G348, G340, G341, DISR, DISCL, DISRP, FAD)") is the control's to make: the codes and their
+/// words read with a warning that the inserted path is kept as intent, and the program's own
+/// moves are made as written. A code the control does not have stays an error.
+#[test]
+fn siemens_smooth_approach_and_retraction_are_kept_as_intent() {
+    let program = "G18 G90 G95 DIAMON\nT1 D1\nS200 M4\nG0 X30 Z2\nG42 G147 DISR=1 DISCL=2 FAD=0.1\nG1 X30 Z0 F0.2\n\
+G1 X50 Z-25\nG40 G148 DISR=1\nG0 X150 Z50\nG41 G247 G341 DISR=5 F0.1\nG1 X40 Z-5\nG40 G348 DISR=5\nM30\n";
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+    let (moves, diags) = crate::moves_and_findings("siemens", program, &Profile::default());
+    // The first three such codes are told; the others counted in a note.
+    for code in ["G147", "G148", "G247"] {
+        assert!(diags.iter().any(|d| d.code.as_str() == "syntax::unmodelled" && d.message.contains(code)), "{code}: {diags:?}");
+    }
+    // The cone as written, in radii: no approach path invented.
+    assert!(moves.contains(&"STRAIGHT_FEED(15.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{moves:?}");
+    assert!(moves.contains(&"STRAIGHT_FEED(25.0000, 0.0000, -25.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{moves:?}");
+    assert!(!errors("siemens", "G18 G90\nG149 X10\nM30\n").is_empty());
+}
+
+/// Sweep 16 (g017): a block may set several spindles, each by its numbered words (840D sl
+/// programming manual, fundamentals: `S<n>=`, `M<n>=` address spindle n): `S1=100 S2=100` is
+/// no address written twice. The analysis follows the block's first spindle and keeps the
+/// other's words as intent; an S written twice for one spindle stays the error it is.
+#[test]
+fn siemens_speeds_of_two_numbered_spindles_in_one_block_are_no_error() {
+    let program = "G18 G90 G95\nS1=100 S2=200 M1=4 M2=3\nG4 F0.5\nM1=5 M2=5\nM30\n";
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+    let (_, diags) = crate::moves_and_findings("siemens", program, &Profile::default());
+    assert!(
+        diags
+            .iter()
+            .any(|d| d.code.as_str() == "syntax::unmodelled" && d.message.contains("`S2=200`") && d.message.contains("several spindles")),
+        "{diags:?}"
+    );
+    // The first spindle's speed is the one read.
+    let d = ncplan::dialect::Registry::shipped().get("siemens").unwrap();
+    let mut out = Vec::new();
+    ncplan::interp::interpret(program, &d, &Profile::default(), &mut out);
+    assert!(out.iter().any(|c| c.op == ncplan::canon::CanonOp::SetSpindleSpeed(100.0)), "{out:?}");
+    assert!(!out.iter().any(|c| c.op == ncplan::canon::CanonOp::SetSpindleSpeed(200.0)), "{out:?}");
+    assert!(errors("siemens", "S1=100 S1=200 M1=3\nM30\n").iter().any(|e| e.starts_with("syntax::duplicate-word")));
+}
+
+/// Sweep 16 (g014): `DIAM90` is diameter programming for absolute dimensions only (840D sl
+/// programming manual, fundamentals: an X in G90 a diameter, in G91 a radius), and under it
+/// an arc centre's absolute X (`I=AC(20)`) is a diameter as the contour editor writes it
+/// (SINUMERIK Operate, contour turning, circle element: "I circle centre point ∅ (abs) or
+/// (inc)"). Written before the run: a Ø20 shoulder, an arc of radius 10 about Z-20 Ø20 to
+/// Ø40, 5 more on the radius in G91. An arc whose radii really disagree stays an error.
+#[test]
+fn siemens_diam90_reads_absolute_x_and_absolute_centres_as_diameters() {
+    let program = "G18 G90 DIAM90\nG0 Z0 X0\nG1 X20 F0.2\nZ-10\nG2 Z-20 X40 K=AC(-20) I=AC(20)\nG91 G1 X5\nG90 Z-30\nM30\n";
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+    let moves = moves("siemens", program);
+    assert_eq!(
+        moves[3..],
+        [
+            "ARC_FEED(-20.0000, 20.0000, -20.0000, 10.0000, -1, 0.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(25.0000, 0.0000, -20.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(25.0000, 0.0000, -30.0000, 0.0000, 0.0000, 0.0000)",
+        ],
+        "{moves:?}"
+    );
+    let wrong = program.replace("I=AC(20)", "I=AC(30)");
+    assert!(errors("siemens", &wrong).iter().any(|e| e.starts_with("interp::bad-arc")), "{:?}", errors("siemens", &wrong));
+}
+
+/// Sweep 16 (g009): a straight line by one end coordinate and its angle `ANG=` from the Z axis,
+/// counter-clockwise (840D sl programming manual, fundamentals, "Contour definitions": "the
+/// angle is always referred to the Z axis (normal case: G18 active)"), and modal rounding
+/// `RNDM=` of every corner until `RNDM=0`. Written before the run.
+#[test]
+fn siemens_contour_angles_and_modal_rounding_make_the_contour() {
+    // From Z-15 Ø25 at 135° to Z-25: 10 out on the radius (Ø45); then at 135° to Ø65: 10 back.
+    let program = "G18 G90 DIAMON\nG1 X0 Z0 F0.2\nG1 X25\nG1 Z-15\nG1 Z-25 ANG=135\nG1 X65 ANG=135\nG1 Z-50\nM30\n";
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+    let cone = moves("siemens", program);
+    assert_eq!(cone[3], "STRAIGHT_FEED(22.5000, 0.0000, -25.0000, 0.0000, 0.0000, 0.0000)", "{cone:?}");
+    assert_eq!(cone[4], "STRAIGHT_FEED(32.5000, 0.0000, -35.0000, 0.0000, 0.0000, 0.0000)", "{cone:?}");
+    // RNDM=2 rounds the corner at its own block's end and the next; RNDM=0 ends it.
+    let square = "G17 G90 G1 X0 Y0 F500\nG1 X20 RNDM=2\nG1 Y20\nG1 X0 RNDM=0\nG1 Y0\nM30\n";
+    assert_eq!(errors("siemens", square), Vec::<String>::new());
+    let rounded = moves("siemens", square);
+    assert_eq!(rounded.iter().filter(|m| m.starts_with("ARC_FEED")).count(), 2, "{rounded:?}");
+    assert!(rounded.contains(&"STRAIGHT_FEED(18.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{rounded:?}");
+    assert!(rounded.contains(&"STRAIGHT_FEED(0.0000, 20.0000, 0.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{rounded:?}");
+}
+
+/// A rounding too large for a move beside its corner is made smaller to fit on the 840D
+/// ("automatically reduced if the contour length of an involved block is insufficient",
+/// programming manual, fundamentals, "Chamfer, rounding"): RND=5 after a move of 2 is a
+/// rounding of 2, no error. Heidenhain's `RND` too large stays an error (tests/it/derived.rs).
+#[test]
+fn siemens_rounding_too_large_for_its_move_is_reduced() {
+    let program = "G17 G90 G1 X0 Y0 F500\nG1 X2 RND=5\nG1 Y20\nM30\n";
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+    let moves = moves("siemens", program);
+    assert!(moves.contains(&"ARC_FEED(2.0000, 2.0000, 0.0000, 2.0000, 1, 0.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{moves:?}");
+}
+
+/// Sweep 16 (g011): `CYCLE62("PROG",3,"START","END")` names a contour by labels in another
+/// program (SinuTrain's "labels in a subprogram"), found as a called program is: beside the
+/// file. Labels that are not in it stay an error, as a program that is nowhere.
+#[test]
+fn siemens_contour_labels_in_a_called_program_are_found() {
+    struct Beside;
+    impl ncplan::interp::ProgramSource for Beside {
+        fn load(&self, name: &str) -> Option<String> {
+            name.eq_ignore_ascii_case("SHAFT")
+                .then(|| "; contour\nN100 E_LAB_A_S:\nG18 G90 DIAM90\nG0 Z0 X0\nG1 X30\nZ-20\nX40\nE_LAB_E_S:\nM17\n".to_owned())
+        }
+    }
+    let run = |main: &str| {
+        let d = ncplan::dialect::Registry::shipped().get("siemens").unwrap();
+        let mut out = Vec::new();
+        let diags = ncplan::interp::run(main, &d, &Profile::default(), &Beside, &mut out);
+        diags.into_iter().filter(|d| d.is_error()).map(|d| d.message).collect::<Vec<_>>()
+    };
+    let main = "G18 G90 G95\nT1 D1\nG96 S200 LIMS=3000 M4\nCYCLE62(\"SHAFT\",3,\"E_LAB_A_S\",\"E_LAB_E_S\")\n\
+CYCLE952(\"ROUGH\",,\"\",2101311,0.3,0,0,2,0.1,0.1,0.3,0.3,0.1,0,1,0,0,,,,,2,2,,,0,1,,11111000,12,1100110,1,0)\nG0 X100 Z100\nM30\n";
+    assert_eq!(run(main), Vec::<String>::new());
+    assert!(!run(&main.replace("E_LAB_E_S", "E_LAB_E_T")).is_empty());
+    assert!(!run(&main.replace("\"SHAFT\"", "\"ELSEWHERE\"")).is_empty());
+}

@@ -43,6 +43,8 @@ const ATTRIBUTES: &[&str] = &[
     "motion-without-axes",
     "x-words",
     "lathe-x-words",
+    "arc-centre-x",
+    "corner-too-large",
     "lathe-tool-word",
     "initial-plane",
     "initial-retract",
@@ -86,6 +88,8 @@ fn defaults() -> Behaviour {
         end_required: false,
         x_diameter: false,
         lathe_x_diameter: false,
+        absolute_centre_x_diameter: false,
+        corners_reduced: false,
         x_words_stated: false,
         swivel_axes: None,
         initial_plane: Plane::Xy,
@@ -129,6 +133,8 @@ impl Cx {
         b.end_required = self.either(el, "program-end", "optional", "required");
         b.x_diameter = self.either(el, "x-words", "radius", "diameter");
         b.lathe_x_diameter = self.either(el, "lathe-x-words", "radius", "diameter");
+        b.absolute_centre_x_diameter = self.either(el, "arc-centre-x", "radius", "diameter-absolute");
+        b.corners_reduced = self.either(el, "corner-too-large", "error", "reduced");
         b.lathe_tool_word_changes = self.either(el, "lathe-tool-word", "selects", "changes");
         b.initial_retract_r = self.either(el, "initial-retract", "initial-level", "r-plane");
         b.same_group_last_wins = self.either(el, "same-group-codes", "error", "last");

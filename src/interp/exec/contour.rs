@@ -76,13 +76,30 @@ impl Interpreter<'_> {
     /// A corner the block's own words round or chamfer (Siemens `X65 RND=5`, Fanuc `X65 ,R5`):
     /// marked after the block's move, between it and the next, as a corner block between them
     /// would be.
+    ///
+    /// `RNDM=r` rounds every corner from the end of its own block's move on with radius r,
+    /// until `RNDM=0`; a block's own `RND=`, `CHR=` or `CHF=` takes its corner instead
+    /// (840D sl programming manual, fundamentals, "Chamfer, rounding": "RNDM: modal
+    /// rounding", "RNDM=0: deactivates modal rounding").
     pub(in crate::interp) fn corner_words(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) {
-        let words = [Role::CornerRadius, Role::CornerChamfer, Role::CornerChamferLength].map(|r| self.slot(r));
-        let (size, corner) = match words {
-            [Some(r), ..] => (r, corner::Corner::Round(r)),
-            [None, Some(c), _] => (c, corner::Corner::Chamfer(c)),
-            [None, None, Some(c)] => (c, corner::Corner::ChamferLength(c)),
-            [None, None, None] => return,
+        let mut words = [Role::CornerRadius, Role::CornerChamfer, Role::CornerChamferLength].map(|r| self.slot(r));
+        // `RNDM=r`: its value stands in the corner radius's slot.
+        if self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::RoundModal) {
+            let r = words[0].unwrap_or(0.0);
+            if r < 0.0 {
+                diags.push(Diagnostic::new(Code::MissingParameter, range, "a modal rounding (RNDM) needs a radius of zero (off) or above"));
+            }
+            self.st.round_modal = (r > 0.0).then_some(r);
+            if r <= 0.0 {
+                words[0] = None;
+            }
+        }
+        let (size, corner) = match (words, self.st.round_modal) {
+            ([Some(r), ..], _) => (r, corner::Corner::Round(r)),
+            ([None, Some(c), _], _) => (c, corner::Corner::Chamfer(c)),
+            ([None, None, Some(c)], _) => (c, corner::Corner::ChamferLength(c)),
+            ([None, None, None], Some(r)) if self.has_axes => (r, corner::Corner::Round(r)),
+            ([None, None, None], _) => return,
         };
         if size > 0.0 {
             self.mark_corner(corner);

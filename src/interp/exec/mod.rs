@@ -215,7 +215,7 @@ impl Interpreter<'_> {
                 self.overrides(def, sink)
             }
             Meaning::SubprogramCall | Meaning::LocalSubprogramCall | Meaning::SubprogramReturn => self.call(def, range, diags),
-            Meaning::DiameterMode | Meaning::RadiusMode => self.diameter_mode(def, sink),
+            Meaning::DiameterMode | Meaning::RadiusMode | Meaning::DiameterAbsolute => self.diameter_mode(def, sink),
             Meaning::Other => self.kinematics_output(def, sink, diags),
             Meaning::Output | Meaning::OperatorInput | Meaning::ProgramBegin | Meaning::ContourEnd => {}
             Meaning::Stock => self.stock_corner(sink),
@@ -228,6 +228,8 @@ impl Interpreter<'_> {
             | Meaning::DepartNormal
             | Meaning::DepartArc => self.motion(def, range, block, sink, diags),
             Meaning::CornerRound | Meaning::CornerChamfer => self.corner_code(def, range, diags),
+            // Read with the block's corner words, after its move (`corner_words`).
+            Meaning::RoundModal => {}
             Meaning::Pole | Meaning::PoleKeeping | Meaning::PoleIncremental | Meaning::PoleFromPole => self.pole_code(def),
             Meaning::FrameTrans | Meaning::FrameTransAdd => self.frame_trans(def.meaning == Meaning::FrameTransAdd, sink),
             Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, sink),

@@ -50,12 +50,16 @@ impl Interpreter<'_> {
         self.st.arc_incremental = def.meaning == Meaning::ArcDistanceIncremental;
     }
 
-    /// G7, G8 (lathe): X words give diameters or radii.
+    /// G7, G8 (lathe): X words give diameters or radii; SINUMERIK `DIAM90` diameters in
+    /// absolute dimensions only.
     pub(super) fn diameter_mode(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
         // Said either way: G7 and G8 are lathe codes, so the program turns.
-        let on = def.meaning == Meaning::DiameterMode;
-        // DIAMOF, or DIAMON before any move, tells the reading; DIAMON later shows a lathe.
-        if !on || self.motions == 0 {
+        let on = def.meaning != Meaning::RadiusMode;
+        self.st.diameter_absolute = def.meaning == Meaning::DiameterAbsolute;
+        // DIAMOF, or DIAMON before any move, tells the reading; DIAMON later shows a lathe, as
+        // DIAM90 anywhere does (the contour editor writes it at each contour's start, which a
+        // cycle reads wherever it is called).
+        if !on || (self.motions == 0 && !self.st.diameter_absolute) {
             self.lathe_words.1 = true;
         } else {
             self.lathe_words.0 += 1;

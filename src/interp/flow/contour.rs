@@ -1,6 +1,6 @@
 //! The contour a named turning cycle machines (Siemens `CYCLE95("NAME", ...)`): a label
 //! range of this program (`"START:END"`, the blocks from the first label's through the
-//! second's), a label of this program run up to its return (`RET`, `M17`), or a subprogram
+//! second's) or of a subprogram (`CYCLE62("PROG",3,"START","END")`), a label of this program run up to its return (`RET`, `M17`), or a subprogram
 //! (`PROC NAME` here, or a program of that name in the program directory). Its blocks are
 //! run without effect from the cycle's start point to read the contour (the state is put
 //! back), then the interpreter cuts it (`named_turn`). And the end of a contour definition
@@ -30,9 +30,26 @@ impl<'a> Driver<'a, '_> {
     /// Where the contour `name` lies: its source, first block and the offset it ends at.
     fn contour_span(&mut self, name: &str) -> Result<(usize, Pos, usize), String> {
         let label = |m: &Mark, l: &str| m.defines.as_deref() == Some(l);
-        if let Some((a, b)) = name.split_once(':') {
+        // `CYCLE62("GP1_ABSATZ",3,"E_LAB_A_ABSATZ","E_LAB_E_ABSATZ")`: the labels in the
+        // program the first name gives (SinuTrain's contour call "labels in a subprogram"; the
+        // program found as a called one is, beside the file or in it).
+        let (cur, range) = match name.split(':').collect::<Vec<_>>()[..] {
+            [program, a, b] if !program.is_empty() => {
+                let key = normalise_label(program);
+                let is_proc = |m: &Mark| m.statement == Some(Statement::Procedure) && m.name.as_deref() == Some(key.as_str());
+                let starts = |m: &Mark| is_proc(m) || m.program_name.as_deref() == Some(key.as_str());
+                let Some((source, _)) = self.locate(program, starts) else {
+                    return Err(format!(
+                        "the contour's program `{program}` is neither a subprogram of this program nor a program in the program directory"
+                    ));
+                };
+                (source, Some((a, b)))
+            }
+            [a, b] => (self.cur, Some((a, b))),
+            _ => (self.cur, None),
+        };
+        if let Some((a, b)) = range {
             let (a, b) = (normalise_label(a), normalise_label(b));
-            let cur = self.cur;
             let marks = self.marks(cur);
             let Some(first) = marks.iter().find(|m| label(m, &a)).cloned() else {
                 return Err(format!("no label `{a}` starts the contour"));

@@ -556,10 +556,26 @@ impl Lexer<'_, '_> {
         let operator = matches!(self.b.get(j + number), Some(b'+' | b'-' | b'*' | b'/'));
         let value = if operator { self.assigned_value(start).map(|(v, _)| v) } else { self.value(start) };
         let Some(value) = value else { return true };
+        let range = self.range(start, self.i);
         if spindle {
-            self.block.spindle = Some(index);
+            // `S1=100 S2=100 M1=4 M2=4`: one block may set several spindles, each by its own
+            // numbered words (840D sl programming manual, fundamentals: "Spindle speed S,
+            // spindle direction of rotation M3, M4, M5": `S<n>=`, `M<n>=` address spindle n;
+            // "several spindles can be programmed in one block"). The analysis follows one
+            // spindle a block, the first it numbers; another spindle's words are kept as intent.
+            match self.block.spindle {
+                Some(first) if first != index => {
+                    let shown = &self.text[start..self.i];
+                    let msg = format!(
+                        "`{shown}` beside spindle {first}'s words: this block addresses several spindles by number, each its own words; ncplan follows the first spindle of a block, so `{shown}` is kept as intent"
+                    );
+                    self.diags.push(Diagnostic::new(Code::Unmodelled, range, msg));
+                    return true;
+                }
+                _ => self.block.spindle = Some(index),
+            }
         }
-        self.block.words.push(Word { role, letter, value, range: self.range(start, self.i), mode: WordMode::Modal, cycle_arg: false });
+        self.block.words.push(Word { role, letter, value, range, mode: WordMode::Modal, cycle_arg: false });
         true
     }
 
