@@ -393,10 +393,8 @@ impl Interpreter<'_> {
                 self.st.face_plane = Some(self.st.plane);
                 self.st.cylinder = Some(cyl);
                 self.st.plane = Plane::Xy;
-                // The mode first, then its plane: a writer that states the mode takes the
-                // developed surface's plane as the mode's own (`post::cylinder`).
-                self.emit(sink, CanonOp::Setting(Setting::CylinderWrap(Some(radius))));
                 self.emit(sink, CanonOp::SelectPlane(Plane::Xy));
+                self.emit(sink, CanonOp::Setting(Setting::CylinderWrap(Some(radius))));
                 self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
                 // The cylinder's surface is the top the slot or profile is cut from.
                 self.emit(sink, CanonOp::Setting(Setting::CycleSurface(radius)));

@@ -381,7 +381,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             && self.mods.is_empty()
             && self.repeat.is_none()
             && !self.x_diam
-            && self.cylinder.is_none()
             && self.out.rules.is_empty();
         self.lane_ready = 0;
         if steady {

@@ -64,9 +64,7 @@ impl Class {
             | Value::Sdis
             | Value::Depth
             | Value::ClearDist
-            | Value::Peck
-            | Value::CylRadius
-            | Value::CylDiameter => Class::Position,
+            | Value::Peck => Class::Position,
             Value::F | Value::Pitch => Class::Feed,
             _ => Class::Other,
         }

@@ -122,7 +122,6 @@
 use std::collections::BTreeSet;
 
 mod cycle;
-mod cylinder;
 mod lane;
 mod layout;
 mod machine;
@@ -418,7 +417,7 @@ impl Batcher {
 }
 
 const FLUSH_AT: usize = 64 * 1024;
-const NVALUES: usize = Value::CylDiameter as usize + 1;
+const NVALUES: usize = Value::MachineC as usize + 1;
 const EPS: f64 = 1e-9;
 
 /// Values for one event's template: numbers (NaN when absent) and texts.
@@ -463,10 +462,6 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     pos: [f64; 3],
     /// The tilted working plane written (in output units), `None` while untilted.
     tilt: Option<crate::canon::Frame>,
-    /// Cylindrical interpolation written (`cylinder-on`), `None` while off ([`cylinder`]).
-    cylinder: Option<cylinder::CylinderOut>,
-    /// The mode just ended: the untilted plane that follows is its end, not written.
-    cylinder_ending: bool,
     /// Whether tool centre point control is written on (`tcp-on`): the rotary axes written
     /// then turn the tool as in the source.
     tcp: bool,
@@ -1164,8 +1159,6 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             lane_ready: 0,
             max_line: if out.max_line > 0 { out.max_line } else { usize::MAX },
             lane_text: [0; lane::LANE_TEXT],
-            cylinder: None,
-            cylinder_ending: false,
         }
     }
 
@@ -2045,17 +2038,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             | CanonOp::NurbsFeed { .. }
             | CanonOp::ToolAxis(_)
             | CanonOp::WorkPlane(_) => self.motion_op(canon),
-            // A canned cycle on a cylinder's developed surface: the target's cycle would drill
-            // along the untilted axis, not radially into the cylinder.
-            CanonOp::CycleBegin(_) if self.cylinder.is_some() => {
-                self.note(
-                    Code::PostUnwritable,
-                    canon,
-                    "cylinder-cycle",
-                    "a canned cycle under cylindrical interpolation is not written: the target's cycles drill along its untilted axis, not into the cylinder",
-                );
-                self.cycle_op(canon);
-            }
             CanonOp::CycleBegin(_) | CanonOp::CycleEnd | CanonOp::CycleCancel => self.cycle_op(canon),
             CanonOp::FloodOn | CanonOp::MistOn | CanonOp::FloodOff | CanonOp::MistOff => self.coolant_op(canon),
             CanonOp::Dwell(s) => self.dwell(canon, s),
@@ -2079,10 +2061,19 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 );
                 self.note(Code::PostUnwritable, canon, "mill-cycle", what);
             }
-            // Cylindrical interpolation (Fanuc G07.1/G107, SINUMERIK TRACYL): by the target's
-            // cylinder mode, or said where it has none.
-            CanonOp::Setting(Setting::CylinderWrap(r)) => self.cylinder_wrap(canon, *r),
-            CanonOp::Setting(Setting::MillCycle(None) | Setting::CycleSurface(_)) | CanonOp::TurningEnd => {}
+            // Cylindrical interpolation (Fanuc G07.1/G107, SINUMERIK TRACYL): the canon keeps
+            // its moves on the developed surface's plane laid tangent to the cylinder, which
+            // the target writes as a tilted plane; no output rules write the mode itself, so
+            // the written program cuts on that flat plane where the source's cut wraps round
+            // the cylinder (the moves read back are the same, the part is not).
+            CanonOp::Setting(Setting::CylinderWrap(Some(r))) => {
+                let what = format!(
+                    "cylindrical interpolation (radius {}) is not written: the target's output rules have no cylinder mode, so the moves on the developed surface would be written on a flat plane laid tangent to the cylinder, cutting there instead of round the cylinder",
+                    crate::text::num(*r)
+                );
+                self.note(Code::PostUnwritable, canon, "cylinder", what);
+            }
+            CanonOp::Setting(Setting::MillCycle(None) | Setting::CycleSurface(_) | Setting::CylinderWrap(None)) | CanonOp::TurningEnd => {}
             // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),
         }

@@ -17,9 +17,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     pub(super) fn mode_op(&mut self, canon: &Canon) {
         match &canon.op {
             CanonOp::UseLengthUnits(u) => self.use_units(canon, u),
-            // The developed surface's plane under cylindrical interpolation is the mode's own:
-            // the target's mode selects it (`post::cylinder`).
-            CanonOp::SelectPlane(p) if self.cylinder.is_some() => self.plane = *p,
             CanonOp::SelectPlane(p) if *p != self.plane => {
                 self.plane = *p;
                 let ev = match p {

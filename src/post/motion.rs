@@ -47,7 +47,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     self.no_tool_orientation(canon, *v);
                 }
             }
-            CanonOp::WorkPlane(f) if self.cylinder_plane(f.as_deref()) => {}
             CanonOp::WorkPlane(f) => self.work_plane(canon, f.as_deref()),
             CanonOp::NurbsFeed { points, end } => {
                 self.note(
@@ -257,10 +256,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         };
         // Rotary axes in degrees, not scaled.
         vals.set(Value::A, p[3]).set(Value::B, p[4]).set(Value::C, p[5]);
-        // On a cylinder's developed surface: the lathe's words for it.
-        if let Some((w, c)) = self.cylinder_words(q) {
-            vals.set(Value::X, w[0]).set(Value::Y, w[1]).set(Value::Z, w[2]).set(Value::C, c);
-        }
         vals.set(Value::F, if rapid { f64::NAN } else { self.feed });
         let template = match (thread, rapid) {
             (true, _) => self.out.template(event).map(|(t, _)| t),
@@ -290,13 +285,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         self.cancel_cycle();
         let (a, b, n) = self.plane.axes();
         let start = self.pos;
-        // On a cylinder's developed surface an arc is written by its radius, in the lathe's words.
-        let event = match (self.cylinder.is_some(), ccw) {
-            (false, true) => "arc-ccw",
-            (false, false) => "arc-cw",
-            (true, true) => "cylinder-arc-ccw",
-            (true, false) => "cylinder-arc-cw",
-        };
+        let event = if ccw { "arc-ccw" } else { "arc-cw" };
         let Some((t, _)) = self.out.template(event) else {
             self.note(Code::PostUnwritable, canon, event, format!("the target's output rules have no `{event}` template"));
             self.moved(end);
@@ -342,9 +331,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     vals.set(cc[k], centre[k]);
                 }
                 vals.set(Value::R, if part > std::f64::consts::PI + 1e-9 { -r } else { r });
-                if let Some((w, c)) = self.cylinder_words(to) {
-                    vals.set(Value::X, w[0]).set(Value::Y, w[1]).set(Value::Z, w[2]).set(Value::C, c);
-                }
                 // A full circle: its end words must be written even though unchanged.
                 if halves == 1 && (full || (to[a] - from[a]).hypot(to[b] - from[b]) < 1e-7) {
                     for k in 0..3 {

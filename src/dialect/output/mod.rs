@@ -194,10 +194,6 @@ pub enum Value {
     MachineB,
     /// The same, C (degrees).
     MachineC,
-    /// Cylindrical interpolation (`cylinder-on`): the cylinder's radius, in the program's units.
-    CylRadius,
-    /// The same cylinder's diameter (SINUMERIK `TRACYL(d)`).
-    CylDiameter,
 }
 
 /// The machine-frame values by axis, X Y Z A B C.
@@ -332,10 +328,6 @@ pub const EVENTS: &[&str] = &[
     "work-plane-reset",
     "tcp-on",
     "tcp-off",
-    "cylinder-on",
-    "cylinder-off",
-    "cylinder-arc-cw",
-    "cylinder-arc-ccw",
     "repeat-begin",
     "repeat-end",
     "repeat-call",
@@ -469,21 +461,6 @@ pub struct Output {
     /// The values a format's address takes (`<format min max>`: Haas `G154 P1`–`P99`), by
     /// format index: a template that would write another value is not written.
     pub bounds: Vec<Bound>,
-    /// How the target writes the way round the cylinder under cylindrical interpolation
-    /// (`<emit name="cylinder-on" round="…">`).
-    pub cylinder_round: CylinderRound,
-}
-
-/// How a target states the way round the cylinder on its developed surface.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum CylinderRound {
-    /// The rotary axis C in degrees (Fanuc `G07.1`: the control turns the angle into the length
-    /// at the radius the code states).
-    #[default]
-    Angle,
-    /// The developed surface's Y, a length measured at the cylinder's radius (SINUMERIK
-    /// `TRACYL`: the rotary axis becomes the geometry axis Y).
-    Length,
 }
 
 /// The values one number format takes, both ends included.

@@ -7,8 +7,7 @@
 //! [`parse_expr`], which reads a rule's condition.
 
 use super::{
-    Block, Bound, Cmp, CycleOut, CylinderRound, EVENTS, Expr, NumberFormat, Numbered, Output, Piece, Point, Rule, StateVar, Template,
-    Value, Word,
+    Block, Bound, Cmp, CycleOut, EVENTS, Expr, NumberFormat, Numbered, Output, Piece, Point, Rule, StateVar, Template, Value, Word,
 };
 use crate::canon::CycleKind;
 use crate::dialect::xml::Element;
@@ -81,8 +80,6 @@ const VALUES: &[(&str, Value)] = &[
     ("ma", Value::MachineA),
     ("mb", Value::MachineB),
     ("mc", Value::MachineC),
-    ("cyl-radius", Value::CylRadius),
-    ("cyl-diameter", Value::CylDiameter),
 ];
 
 /// The cycle kinds' names in `<cycle kinds>`.
@@ -162,7 +159,6 @@ pub(in crate::dialect) fn load(el: &Element, errors: &mut Errors) -> Output {
         cycles: Vec::new(),
         rules: Vec::new(),
         bounds: Vec::new(),
-        cylinder_round: CylinderRound::Angle,
     };
     // Formats first: templates refer to them.
     for c in el.children.iter().filter(|c| c.name == "format") {
@@ -306,19 +302,11 @@ fn read_comment(c: &Element, out: &mut Output, errors: &mut Errors) {
 /// Reads an `<emit>`: the template of an event, and whether it waits for the next move; one
 /// without a name, or naming no event, is left out.
 fn read_emit(c: &Element, out: &mut Output, errors: &mut Errors) {
-    shape(c, &["name", "text", "into", "round"], errors);
+    shape(c, &["name", "text", "into"], errors);
     let Some(name) = attr(c, "name") else {
         errors.push((c.range, "<emit> needs the attribute `name`".into()));
         return;
     };
-    // The way round the cylinder, said where cylindrical interpolation begins.
-    match (name, attr(c, "round")) {
-        (_, None) => {}
-        ("cylinder-on", Some("angle")) => out.cylinder_round = CylinderRound::Angle,
-        ("cylinder-on", Some("length")) => out.cylinder_round = CylinderRound::Length,
-        ("cylinder-on", Some(v)) => errors.push((range(c, "round"), format!("`round` is angle or length, not `{v}`"))),
-        (_, Some(_)) => errors.push((range(c, "round"), "`round` belongs to the `cylinder-on` event only".into())),
-    }
     if !EVENTS.contains(&name) {
         errors.push((range(c, "name"), format!("`{name}` is not an output event (one of {})", EVENTS.join(", "))));
         return;
