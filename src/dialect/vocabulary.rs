@@ -89,6 +89,9 @@ pub struct Entry {
     pub what: String,
     /// The manual (or reference section) it comes from.
     pub manual: String,
+    /// Whether its documented effect includes motion (`moves="true"`: a home return, a
+    /// retract): its moves are unknown, so a translation refuses rather than drop them.
+    pub moves: bool,
 }
 
 /// The `<vocabulary>` section.
