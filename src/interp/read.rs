@@ -218,7 +218,7 @@ impl Interpreter<'_> {
                         e.what, e.manual
                     ),
                 );
-                let moves = e.moves.then(|| motion_unknown(&shown, &e.what, w.range));
+                let moves = e.moves.then(|| motion_unknown(shown, &e.what, w.range));
                 self.limited(diags, "unmodelled-code", d);
                 if let Some(m) = moves {
                     self.limited(diags, "motion-unknown", m);

@@ -451,7 +451,8 @@ fn the_translate_download_reads_back_in_its_dialect() {
         assert!(!cli.status.success() && err.contains("the length offset H1 while tool T8 is in the spindle"), "{dialect}: {err}");
         assert!(cli.stdout.is_empty(), "{dialect}: a refused translation was written");
     }
-    for (query, dialect, ext) in [("", "fanuc", "nc")] {
+    {
+        let (query, dialect, ext) = ("", "fanuc", "nc");
         let (head, body) = get(query);
         assert!(head.starts_with("HTTP/1.1 200"), "{query}: {head}");
         let filename = format!("O1234-r{revision}-{dialect}.{ext}");
