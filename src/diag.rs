@@ -148,6 +148,9 @@ codes! {
     /// option, a documented machine-builder range) that ncplan does not model: the control
     /// runs it, so the block is kept as intent and the moves it makes are unknown.
     Unmodelled = ("syntax::unmodelled", Warning),
+    /// A code whose documented effect moves the machine (a retract, a reference return,
+    /// polar positions) that ncplan does not model: the toolpath after it is not known.
+    MotionUnknown = ("interp::motion-unknown", Warning),
     /// A word that no command in the block uses.
     UnusedWord = ("syntax::unused-word", Warning),
     /// A construct the dialect defines but this version of the interpreter does not execute.
@@ -282,6 +285,9 @@ codes! {
     /// (`translate --check`): a move, a home return, a work offset, the tool, the spindle or
     /// the coolant differs.
     PostMotionDiffers = ("post::motion-differs", Error),
+    /// The program has a motion ncplan does not know (`interp::motion-unknown`): a translation
+    /// would drop it or move elsewhere, so none is written.
+    PostMotionUnknown = ("post::motion-unknown", Error),
     /// A canned cycle the target cannot state as a cycle: written as the moves it makes.
     PostCycleAsMoves = ("post::cycle-as-moves", Note),
     /// Macros, loops and subprograms are written as the path that runs, unrolled.

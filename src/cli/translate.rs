@@ -35,10 +35,11 @@ pub(super) struct Args {
     /// A stored revision (the as-run program) instead of a file.
     #[arg(long, conflicts_with = "file")]
     revision: Option<i64>,
-    /// Prove the translation by its motion before giving it out: read it back in the
-    /// target's dialect and compare every move (in its frame: the work offset, a reference
-    /// return, machine coordinates), tool, feed, spindle and coolant with the program's. A
-    /// translation that runs otherwise is not written (exit 1). It is held in memory.
+    /// The proof is always made (safe output): the translation is read back in the target's
+    /// dialect and every move (in its frame: the work offset, a reference return, machine
+    /// coordinates), tool, feed, spindle and coolant compared with the program's before it is
+    /// given out; one the target's reader rejects or that runs otherwise is not written
+    /// (exit 1). It is held in memory. The flag is kept so that scripts giving it still run.
     #[arg(long)]
     check: bool,
     #[command(flatten)]
@@ -47,7 +48,10 @@ pub(super) struct Args {
 
 /// Runs `ncplan translate`.
 pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
-    let Args { file, dialect: from, to, output, machine, revision, check, store: store_args } = args;
+    let Args { file, dialect: from, to, output, machine, revision, check: _, store: store_args } = args;
+    // Safe output: the translation is always read back and proven before it is given out, so
+    // text the target's own reader rejects, or a toolpath that differs, never leaves.
+    let check = true;
     let (store_args, out) = (&store_args, &mut out);
     let config = analysis_config(store_args.config.as_deref())?;
     let registry = registry_for(Some(&config))?;

@@ -399,6 +399,10 @@ pub struct Behaviour {
     /// Whether a tool change applies the new tool's length offset (Siemens `D1` default,
     /// Heidenhain `TOOL CALL`), with no G43.
     pub tool_change_applies_length: bool,
+    /// Whether a block in machine coordinates (`G53`) always moves at rapid traverse, whatever
+    /// the motion mode in force (Fanuc: "G53 ... the tool moves at rapid traverse"); LinuxCNC's
+    /// and Siemens' `SUPA` move by the motion mode in force.
+    pub machine_coords_rapid: bool,
     /// Whether `G43 H0` takes the tool in the spindle (LinuxCNC's pocket 0, `h0="spindle-tool"`)
     /// rather than no offset.
     pub h0_spindle_tool: bool,
@@ -869,6 +873,10 @@ pub struct CodeDef {
     /// Whether the code runs a touch probe's measuring cycle (`probe="true"`, Heidenhain
     /// `TCH PROBE 430`): its words and parameters are the probing's.
     pub probe: bool,
+    /// Whether the control's manual says the code moves the machine in a way the engine does
+    /// not model (`moves="true"`: Heidenhain `M140`, a retract): read with
+    /// `interp::motion-unknown`, and a translation refuses rather than drop the motion.
+    pub moves: bool,
 }
 
 /// What a data-setting code (`G10 L..`) sets, by its L value.

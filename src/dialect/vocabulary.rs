@@ -89,6 +89,9 @@ pub struct Entry {
     pub what: String,
     /// The manual (or reference section) it comes from.
     pub manual: String,
+    /// Whether its documented effect includes motion (`moves="true"`: a home return, a
+    /// retract): its moves are unknown, so a translation refuses rather than drop them.
+    pub moves: bool,
 }
 
 /// The `<vocabulary>` section.
@@ -166,7 +169,9 @@ pub fn table(d: &Dialect) -> Vec<Row> {
             (None, 'G') => ("G", format!("G{}", shown(u32::from(c.number)))),
             (None, l) => ("M", format!("{l}{}", shown(u32::from(c.number)))),
         };
-        rows.push(Row { kind, code, status: "modelled", what: c.name.clone(), manual: manual.clone() });
+        // A code whose motion the engine does not model is intent, whatever its group.
+        let status = if c.moves { "intent" } else { "modelled" };
+        rows.push(Row { kind, code, status, what: moving(&c.name, c.moves), manual: manual.clone() });
     }
     // A statement its `<vocabulary>` restates (with the manual it comes from) is listed once,
     // as the entry says.
@@ -206,11 +211,17 @@ pub fn table(d: &Dialect) -> Vec<Row> {
             }
             _ => e.codes.clone(),
         };
-        rows.push(Row { kind: e.kind.as_str(), code, status: e.status.as_str(), what: e.what.clone(), manual: e.manual.clone() });
+        rows.push(Row { kind: e.kind.as_str(), code, status: e.status.as_str(), what: moving(&e.what, e.moves), manual: e.manual.clone() });
     }
     rows.sort();
     rows.dedup();
     rows
+}
+
+/// What a code does, said with whether its motion is unknown (`moves="true"`): a translation
+/// of a program that uses it is refused.
+fn moving(what: &str, moves: bool) -> String {
+    if moves { format!("{what} [moves the machine, not modelled: a translation refuses]") } else { what.to_owned() }
 }
 
 /// The table as tab-separated text with a header line.

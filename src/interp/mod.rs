@@ -799,7 +799,7 @@ impl State {
     }
 
     /// The offsets of work coordinate system `wcs` (1 for G54; an additional one is 0 until
-    /// the program sets it).
+    /// the program sets it; 0, no settable offset in force (Siemens `G500`), is 0).
     fn offset(&self, wcs: u16) -> [f64; 6] {
         match wcs {
             1..=9 => self.wcs_offsets[wcs as usize - 1],

@@ -16,7 +16,7 @@ impl Interpreter<'_> {
     /// The end point of a move: axis words in the distance mode, in program coordinates.
     pub(super) fn target(&self) -> [f64; 6] {
         let machine = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::MachineCoords);
-        if machine && self.st.wcs_rotation[self.st.wcs as usize - 1] != 0.0 {
+        if machine && self.st.rotation(self.st.wcs) != 0.0 {
             // In a rotated system the machine point maps to program X and Y together.
             let mut m = self.machine_pos();
             for (i, &role) in Role::AXES.iter().enumerate() {
@@ -44,7 +44,7 @@ impl Interpreter<'_> {
                 t[i] = if machine {
                     // The tool offsets move the controlled point along X, Y and Z.
                     let tlo = if i < 3 { self.st.tool_offset[i] } else { 0.0 };
-                    v - self.st.wcs_offsets[self.st.wcs as usize - 1][i] - self.st.g92[i] - tlo
+                    v - self.st.offset(self.st.wcs)[i] - self.st.g92[i] - tlo
                 } else if incremental {
                     self.st.pos[i] + v
                 } else {
@@ -220,7 +220,12 @@ impl Interpreter<'_> {
             );
             diags.push(Diagnostic::new(Code::Unsupported, at, msg));
         }
-        let rapid_block = !self.codes.is_empty() && self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::RapidBlock);
+        // A block of a rapid code (`FMAX`), or in machine coordinates on a control whose G53
+        // always positions at rapid traverse (`machine-coords-rapid`), moves at rapid whatever
+        // the motion mode in force.
+        let rapid_of =
+            |m: Meaning| m == Meaning::RapidBlock || (m == Meaning::MachineCoords && self.dialect.behaviour.machine_coords_rapid);
+        let rapid_block = !self.codes.is_empty() && self.codes.iter().any(|&(c, _)| rapid_of(self.code(c).meaning));
         let arc = matches!(
             def.meaning,
             Meaning::ArcCw | Meaning::ArcCcw | Meaning::ArcPole | Meaning::ArcRadius | Meaning::ArcTangent | Meaning::ArcThreePoint

@@ -220,7 +220,11 @@ impl Interpreter<'_> {
                         e.what, e.manual
                     ),
                 );
+                let moves = e.moves.then(|| motion_unknown(shown, &e.what, w.range));
                 self.limited(diags, "unmodelled-code", d);
+                if let Some(m) = moves {
+                    self.limited(diags, "motion-unknown", m);
+                }
                 self.intent_words = true;
                 return true;
             }
@@ -789,4 +793,15 @@ pub(super) fn inert_keyword(d: &Dialect, profile: &super::Profile, c: usize) -> 
     let scaled = !profile.calculator_input
         && matches!(&d.behaviour.decimal_input, DecimalInput::LeastIncrement { scaled, .. } if scaled.contains(&Role::Extra));
     inert && !scaled
+}
+
+/// The finding of code `shown`, whose documented effect (`what`) moves the machine in a way
+/// ncplan does not model (`moves="true"` in the dictionary): the toolpath after it is not
+/// known, and a translation refuses rather than drop the motion.
+pub(super) fn motion_unknown(shown: &str, what: &str, range: TextRange) -> Diagnostic {
+    Diagnostic::new(
+        Code::MotionUnknown,
+        range,
+        format!("`{shown}` ({what}) moves the machine, and ncplan does not model that motion: the toolpath after it is not known"),
+    )
 }

@@ -22,6 +22,7 @@ pub fn work_offset_name(index: u16) -> String {
     match index {
         1..=6 => format!("G{}", 53 + u32::from(index)),
         7..=9 => format!("G59.{}", index - 6),
+        0 => "no settable work offset (the basic frame)".to_owned(),
         n if n > extended => format!("additional work offset {}", n - extended),
         n => format!("work offset {n}"),
     }

@@ -344,8 +344,24 @@ pub fn translate_with_facts<'t>(
     post.tops_source = Some(hole_tops);
     let mut diags = interpret_beside(text.into(), from, profile, &mut post);
     diags.extend(post.finish());
+    diags.extend(refusals(&diags));
     diags.sort_by_key(|d| (d.range.start, d.range.end));
     diags
+}
+
+/// Safe output: a translation is given out only if every motion of the source is known and
+/// written. Each motion the reading could not know (`interp::motion-unknown`: a code whose
+/// documented effect moves the machine, kept as intent) refuses the translation at its
+/// place, as an error the caller does not write past.
+fn refusals(diags: &[Diagnostic]) -> Vec<Diagnostic> {
+    diags
+        .iter()
+        .filter(|d| d.code == Code::MotionUnknown)
+        .map(|d| {
+            let msg = format!("the translation is refused: {}; written without it, the program would move elsewhere", d.message);
+            Diagnostic::new(Code::PostMotionUnknown, d.range, msg)
+        })
+        .collect()
 }
 
 /// Ops handed from the reading thread to the writing one at a time.

@@ -241,6 +241,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 Some((t, _)) if t.0.is_empty() => false,
                 Some(_) => self.event(&own, &mut vals),
                 None if extended => false,
+                // No settable work offset (Siemens G500): only a target that says how.
+                None if *i == 0 => false,
                 None if *i > 6 && out.template("work-offset").is_some_and(|(t, _)| t.uses(Value::WcsCode)) => false,
                 None => self.event("work-offset", &mut vals),
             };
@@ -252,6 +254,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     &own,
                     format!("the target's output rules have no code for additional work offset {n} (G54.1 P{n}: `{own}`)"),
                 );
+            } else if !wrote && *i == 0 {
+                let msg = "the target's output rules have no code that switches the settable work offset off (Siemens G500, `work-offset-0`): the program's positions from here on are in the basic frame";
+                self.note(Code::PostUnwritable, canon, &own, msg);
             } else if !wrote && *i != 1 {
                 self.note(
                     Code::PostUnwritable,

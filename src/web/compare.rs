@@ -514,6 +514,22 @@ pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Opt
     let opts = crate::pipeline::TranslateOptions::for_program(&name);
     let mut out = Vec::new();
     diags.extend(crate::pipeline::translate(&source.text, &source_dialect, &target, profile, opts, |chunk| out.extend_from_slice(chunk)));
+    // Safe output: the translation is read back and proven before it is given out; one the
+    // writer refused or that the proof rejects is not given out at all.
+    if !diags.iter().any(|x| x.is_error()) {
+        let checked = crate::pipeline::check_translation(
+            source.text.as_str().into(),
+            &source_dialect,
+            &String::from_utf8_lossy(&out),
+            &target,
+            profile,
+            &diags,
+        );
+        diags.extend(checked);
+    }
+    if diags.iter().any(|x| x.is_error() && x.code.as_str().starts_with("post::")) {
+        out.clear();
+    }
     let idx = crate::text::LineIndex::new(&source.text);
     let notes = diags
         .iter()
@@ -593,6 +609,10 @@ pub(super) async fn download(
     })
     .await;
     let mut response = match result {
+        Ok(Ok(t)) if t.bytes.is_empty() && t.errors => {
+            (StatusCode::UNPROCESSABLE_ENTITY, format!("the translation is refused: nothing was written\n{}", t.notes.join("\n")))
+                .into_response()
+        }
         Ok(Ok(t)) => {
             let disposition = format!("attachment; filename=\"{}\"", t.filename);
             let mut r = t.bytes.into_response();

@@ -944,3 +944,105 @@ fn the_motion_check_refuses_an_arc_in_another_plane() {
     assert_eq!(d.len(), 1, "{d:?}\n{planted}");
     assert_eq!(d[0].code.as_str(), "post::motion-differs");
 }
+
+/// The `post::motion-unknown` refusals of a translation of `src` from `from` to `to`, each
+/// with its line.
+fn motion_unknown(src: &str, from: &str, to: &str) -> Vec<(usize, String)> {
+    let (_, diags) = translate(src, &dialect(from), &dialect(to), "P1");
+    diags
+        .iter()
+        .filter(|d| d.code.as_str() == "post::motion-unknown")
+        .inspect(|d| assert!(d.is_error(), "{d:?}"))
+        .map(|d| (src[..d.range.start as usize].matches('\n').count() + 1, d.message.clone()))
+        .collect()
+}
+
+/// Safe output: a code whose documented motion is kept as intent (`moves="true"` in its
+/// dictionary) refuses the translation at its line, whatever the target: dropped, the moves
+/// after it would run elsewhere (a rapid through the part after a retract left out).
+#[test]
+fn a_code_whose_motion_is_unknown_refuses_the_translation() {
+    // Heidenhain M140 MB MAX: a retract along the tool axis (TNC user's manual).
+    let tnc = "BEGIN PGM H1 MM\nTOOL CALL 1 Z S2000\nL Z+100 R0 FMAX M3\nL X+10 Y+10 R0 FMAX\nL Z-5 R0 F100\nM140 MB MAX\nL X+50 Y+50 R0 FMAX\nEND PGM H1 MM\n";
+    for to in ["fanuc", "siemens", "linuxcnc"] {
+        let r = motion_unknown(tnc, "heidenhain", to);
+        assert_eq!(r.len(), 1, "{to}: {r:?}");
+        assert_eq!(r[0].0, 6, "{r:?}");
+        assert!(r[0].1.contains("M140"), "{r:?}");
+    }
+    // Fanuc G16: the moves after it are polar (radius, angle), not X and Y.
+    let polar = "G21 G90 G17\nT1 M6\nG54 G0 X0. Y0. S1000 M3\nG43 H1 Z5.\nG16\nG0 X40. Y90.\nG15\nM30\n";
+    let r = motion_unknown(polar, "fanuc", "linuxcnc");
+    assert_eq!(r.len(), 1, "{r:?}");
+    assert_eq!(r[0].0, 5);
+    // Fanuc G29 (from the reference position), G39, G45, G60: documented, not modelled.
+    for (code, line) in [("G29 X0.", "G29"), ("G39 X10. Y10.", "G39"), ("G45 X10. D1", "G45"), ("G60 X10.", "G60")] {
+        let src = format!("G21 G90 G17\nT1 M6\nG54 G0 X0. Y0. S1000 M3\nG43 H1 Z5.\n{code}\nM30\n");
+        let r = motion_unknown(&src, "fanuc", "linuxcnc");
+        assert_eq!(r.len(), 1, "{code}: {r:?}");
+        assert!(r[0].1.contains(line), "{r:?}");
+    }
+    // Centroid M25: Z to its home position.
+    let centroid = "G21 G90 G17\nT1 M6\nG0 X0 Y0 Z5\nS1000 M3\nG1 Z-1 F100\nM5 M25\nM30\n";
+    let r = motion_unknown(centroid, "centroid", "linuxcnc");
+    assert_eq!(r.len(), 1, "{r:?}");
+    assert_eq!(r[0].0, 6);
+    // A code of the same kind with no motion (G15, polar off) refuses nothing.
+    assert_eq!(motion_unknown("G21 G90 G17\nG15\nG0 X1. Y1.\nM30\n", "fanuc", "linuxcnc"), vec![]);
+}
+
+/// Fanuc: "G53 ... the tool moves at rapid traverse" whatever the motion mode in force
+/// (`machine-coords-rapid`); Mitsubishi's G53 follows the modal motion (M700V manual).
+#[test]
+fn a_fanuc_g53_block_is_a_rapid_under_a_modal_feed() {
+    let src = "G21 G90 G17\nG0 X0. Y0. Z5.\nG1 Z-1. F100.\nG53 Z0.\nX10.\nM30\n";
+    let ops = |d: &str| {
+        let mut canon = Vec::new();
+        pipeline::canon(src, &dialect(d), &Profile::default(), &mut canon);
+        canon.into_iter().filter(|c| matches!(c.op, CanonOp::StraightTraverse(..) | CanonOp::StraightFeed(..))).collect::<Vec<_>>()
+    };
+    let fanuc = ops("fanuc");
+    let kinds: Vec<bool> = fanuc.iter().map(|c| matches!(c.op, CanonOp::StraightTraverse(..))).collect();
+    // G0, G1 Z-1, G53 Z0 (rapid), X10 (the modal G1 again).
+    assert_eq!(kinds, [true, false, true, false], "{fanuc:?}");
+    let mitsubishi = ops("mitsubishi");
+    let kinds: Vec<bool> = mitsubishi.iter().map(|c| matches!(c.op, CanonOp::StraightTraverse(..))).collect();
+    assert_eq!(kinds, [true, false, false, false], "{mitsubishi:?}");
+}
+
+/// Siemens G500 switches the settable frame off: no settable work offset, which Siemens
+/// writes back as G500 and a target without such a code refuses (it was G59.3 on LinuxCNC).
+#[test]
+fn siemens_g500_is_no_settable_offset_never_another_offset() {
+    let src = "G17 G90 G71\nT1 D1\nM6\nG54\nG0 X10 Y10 S1000 M3\nZ5\nG1 Z-2 F100\nG0 Z5\nG500\nG0 X5 Y5\nM30\n";
+    let (linuxcnc, diags) = translate(src, &dialect("siemens"), &dialect("linuxcnc"), "P1");
+    assert!(!linuxcnc.contains("G59.3"), "{linuxcnc}");
+    let refused: Vec<_> = diags.iter().filter(|d| d.code.as_str() == "post::unwritable").collect();
+    assert_eq!(refused.len(), 1, "{diags:?}");
+    assert!(refused[0].message.contains("switches the settable work offset off"), "{refused:?}");
+    let (siemens, diags) = translate(src, &dialect("siemens"), &dialect("siemens"), "P1");
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    assert!(siemens.lines().any(|l| l.split_whitespace().any(|w| w == "G500")), "{siemens}");
+}
+
+/// The translation is always read back before it is given out: a target whose writer makes
+/// text its own reader rejects (Heidenhain ISO writing Klartext, inherited) gives out nothing
+/// and exits 1, with or without `--check`.
+#[test]
+fn a_translation_its_target_cannot_read_is_never_given_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("p.nc");
+    std::fs::write(&file, "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X0. Y0. Z5.\nG1 Z-1. F100.\nX10.\nM30\n").unwrap();
+    for check in [false, true] {
+        let mut cmd = std::process::Command::new(crate::bin());
+        cmd.args(["translate", "-d", "fanuc", "--to", "heidenhain_iso"]).arg(&file);
+        if check {
+            cmd.arg("--check");
+        }
+        let out = cmd.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{err}");
+        assert!(out.stdout.is_empty(), "given out: {}", String::from_utf8_lossy(&out.stdout));
+        assert!(err.contains("read back as heidenhain_iso, has an error"), "{err}");
+    }
+}

@@ -434,7 +434,25 @@ fn the_translate_download_reads_back_in_its_dialect() {
     let get = |query: &str| {
         http(&base, &format!("GET /compare/{revision}/translate{query} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"))
     };
-    for (query, dialect, ext) in [("", "fanuc", "nc"), ("?to=siemens", "siemens", "mpf"), ("?to=heidenhain", "heidenhain", "h")] {
+    // Safe output: the edit cuts with T8 on H1's length, which Siemens and Heidenhain cannot
+    // state (they apply the tool's own): the download is refused (422, the notes say why) and
+    // `ncplan translate` writes nothing, as the download once gave out the text regardless.
+    for dialect in ["siemens", "heidenhain"] {
+        let (head, body) = get(&format!("?to={dialect}"));
+        assert!(head.starts_with("HTTP/1.1 422"), "{dialect}: {head}");
+        assert!(body.contains("refused") && body.contains("the length offset H1 while tool T8 is in the spindle"), "{dialect}: {body}");
+        let cli = Command::new(crate::bin())
+            .current_dir(site.dir.path())
+            .args(["translate", "--revision", &revision, "--to", dialect, "--config"])
+            .arg(site.path("ncplan.toml"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&cli.stderr);
+        assert!(!cli.status.success() && err.contains("the length offset H1 while tool T8 is in the spindle"), "{dialect}: {err}");
+        assert!(cli.stdout.is_empty(), "{dialect}: a refused translation was written");
+    }
+    {
+        let (query, dialect, ext) = ("", "fanuc", "nc");
         let (head, body) = get(query);
         assert!(head.starts_with("HTTP/1.1 200"), "{query}: {head}");
         let filename = format!("O1234-r{revision}-{dialect}.{ext}");

@@ -49,6 +49,7 @@ const ATTRIBUTES: &[&str] = &[
     "initial-plane",
     "initial-retract",
     "same-group-codes",
+    "machine-coords-rapid",
 ];
 
 /// The behaviour of a dialect without a `<behaviour>` element, and of each attribute left out.
@@ -59,6 +60,7 @@ fn defaults() -> Behaviour {
         dwell_unit: TimeUnit::Seconds,
         tool_change_stops_spindle: true,
         tool_change_applies_length: false,
+        machine_coords_rapid: false,
         tool_change_rereads_position: false,
         h0_spindle_tool: false,
         probe_backoff_mm: 0.0,
@@ -108,6 +110,7 @@ impl Cx {
         b.dwell_unit = self.dwell_unit(el);
         b.tool_change_stops_spindle = self.bool(el, "tool-change-stops-spindle", true);
         b.tool_change_applies_length = self.bool(el, "tool-change-applies-length", false);
+        b.machine_coords_rapid = self.bool(el, "machine-coords-rapid", false);
         b.h0_spindle_tool = self.either(el, "h0", "no-offset", "spindle-tool");
         b.tool_change_rereads_position = self.either(el, "position-after-tool-change", "program", "last-move");
         b.probe_backoff_mm = self.number(el, "probe-backoff-mm", 0.0).max(0.0);

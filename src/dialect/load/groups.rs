@@ -30,6 +30,7 @@ const CODE_ATTRIBUTES: &[&str] = &[
     "tilt-forms",
     "also",
     "probe",
+    "moves",
 ];
 
 impl Cx {
@@ -99,8 +100,9 @@ impl Cx {
             return None;
         };
         let index = self.number(c, "index", 0.0) as u8;
-        if meaning == Meaning::Wcs && !(1..=9).contains(&index) {
-            self.error(c.range, "a `wcs` code needs an `index` from 1 to 9");
+        // 0: no settable work offset in force (Siemens G500: the settable frame off).
+        if meaning == Meaning::Wcs && !(0..=9).contains(&index) {
+            self.error(c.range, "a `wcs` code needs an `index` from 0 (no settable work offset) to 9");
         }
         if let Some(k) = &keyword {
             if codes.iter().any(|x| x.keyword.as_ref().is_some_and(|o| o.text == k.text)) {
@@ -154,6 +156,7 @@ impl Cx {
             tilt_forms,
             also,
             probe: self.bool(c, "probe", false),
+            moves: self.bool(c, "moves", false),
         })
     }
 

@@ -11,7 +11,7 @@ impl Cx {
         let manual = self.attr(el, "manual").unwrap_or_default().to_owned();
         let mut entries = Vec::new();
         for e in el.children.iter().filter(|c| c.name == "entry") {
-            self.shape(e, &["kind", "codes", "status", "what", "manual"], &[]);
+            self.shape(e, &["kind", "codes", "status", "what", "manual", "moves"], &[]);
             let (Some(kind), Some(codes), Some(status)) = (self.required(e, "kind"), self.required(e, "codes"), self.required(e, "status"))
             else {
                 continue;
@@ -45,7 +45,8 @@ impl Cx {
             };
             let what = self.attr(e, "what").unwrap_or_default().to_owned();
             let manual = self.attr(e, "manual").map_or_else(|| manual.clone(), str::to_owned);
-            entries.push(Entry { kind, codes: codes.to_owned(), ranges, status, what, manual });
+            let moves = self.bool(e, "moves", false);
+            entries.push(Entry { kind, codes: codes.to_owned(), ranges, status, what, manual, moves });
         }
         Vocabulary { manual, entries }
     }

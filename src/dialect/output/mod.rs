@@ -302,6 +302,7 @@ pub const EVENTS: &[&str] = &[
     "units-mm",
     "units-inch",
     "work-offset",
+    "work-offset-0",
     "work-offset-1",
     "work-offset-2",
     "work-offset-3",

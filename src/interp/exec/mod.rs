@@ -91,6 +91,11 @@ impl Interpreter<'_> {
             let (c, range) = self.codes[k];
             if self.dialect.groups[self.code(c).group].step == step {
                 ran = true;
+                if self.code(c).moves {
+                    let def = self.code(c);
+                    let d = super::read::motion_unknown(&def.label(), &def.name, range);
+                    self.limited(diags, "motion-unknown", d);
+                }
                 self.execute_code(c, range, block, sink, diags);
             }
         }
