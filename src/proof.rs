@@ -575,7 +575,8 @@ pub fn difference(ta: &Trace, tb: &Trace, tol: f64) -> Option<Difference> {
             );
         }
         if m.stated != n.stated {
-            let names = |b: u8| (0..6).filter(|k| b & (1 << k) != 0).map(|k| ["X", "Y", "Z", "A", "B", "C"][k]).collect::<Vec<_>>().join(" ");
+            let names =
+                |b: u8| (0..6).filter(|k| b & (1 << k) != 0).map(|k| ["X", "Y", "Z", "A", "B", "C"][k]).collect::<Vec<_>>().join(" ");
             let which = |b: u8| if b == 0 { "none".to_owned() } else { names(b) };
             return differ(
                 m,

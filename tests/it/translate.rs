@@ -1036,8 +1036,18 @@ fn the_first_move_keeps_its_axis_words_equal_to_0() {
 #[test]
 fn a_lathe_return_by_u_leaves_x_unstated_on_every_lathe_target() {
     let l1 = "%\nO2001\nG21 G18 G99\nG28 U0.\nG28 W0.\nT0101\nG50 S2000\nG96 S200 M3\nG0 X52. Z2. M8\nG1 Z-20. F0.2\nX56.\nG0 Z2.\nG28 U0.\nG28 W0.\nT0202\nG97 S1000 M3\nG0 X30. Z5.\nG1 Z-10. F0.1\nG0 U2. W2.\nG28 U0. W0.\nM30\n%\n";
-    let l3 = "%\nO2003\nG21 G18 G99\nT0101\nG97 S1000 M3\nG0 X30. Z5.\nG1 Z-10. F0.1\nG0 X32.\nG28 U0.\nT0202\nG0 Z2.\nG0 X20.\nG1 Z-5. F0.1\nG28 U0. W0.\nM30\n%\n";
-    let lathes = ["fanuc_lathe", "fanuc_lathe_b", "haas_lathe", "mazak_lathe", "mitsubishi_lathe", "okuma_lathe", "fagor_lathe", "siemens", "linuxcnc"];
+    let l3 = "%\nO2003\nG21 G18 G99\nT0101\nG97 S1000 M3\nG0 X30. Z5.\nG1 Z-10. F0.1\nG0 X32.\nG28 U0.\nT0202\nG97 S1000 M3\nG0 Z2.\nG0 X20.\nG1 Z-5. F0.1\nG28 U0. W0.\nM30\n%\n";
+    let lathes = [
+        "fanuc_lathe",
+        "fanuc_lathe_b",
+        "haas_lathe",
+        "mazak_lathe",
+        "mitsubishi_lathe",
+        "okuma_lathe",
+        "fagor_lathe",
+        "siemens",
+        "linuxcnc",
+    ];
     for text in [l1, l3] {
         for to in lathes {
             let (out, diags) = translated_and_checked(text, "fanuc_lathe", to);
@@ -1050,7 +1060,7 @@ fn a_lathe_return_by_u_leaves_x_unstated_on_every_lathe_target() {
     }
     let (out, diags) = translated_and_checked(l3, "fanuc_lathe", "fanuc_lathe");
     assert!(!diags.iter().any(Diagnostic::is_error), "{diags:?}");
-    let planted = out.replacen("T0202\nG0 Z2.", "T0202\nG0 X0. Z2.", 1);
+    let planted = out.replacen("G0 Z2.\nG0 X20.", "G0 X0. Z2.\nG0 X20.", 1);
     assert_ne!(planted, out, "{out}");
     assert!(check_refuses(l3, "fanuc_lathe", &planted, "fanuc_lathe"), "{planted}");
     let planted = out.replacen("G28 U0.\n", "G28 U0.\nG0 X0.\n", 1);
