@@ -130,7 +130,7 @@ impl<W: Write> Printer<'_, W> {
 
 impl<W: Write> CanonSink for Printer<'_, W> {
     fn emit(&mut self, canon: Canon) {
-        if self.error.is_some() {
+        if self.error.is_some() || matches!(canon.op, CanonOp::AxesStated(_)) {
             return;
         }
         if !self.lines {

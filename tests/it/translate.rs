@@ -1046,3 +1046,134 @@ fn a_translation_its_target_cannot_read_is_never_given_out() {
         assert!(err.contains("read back as heidenhain_iso, has an error"), "{err}");
     }
 }
+
+/// Translates as `ncplan translate --check` does (the source's units followed): the text, and
+/// the writer's findings with the proof's.
+fn translated_and_checked(text: &str, from: &str, to: &str) -> (String, Vec<Diagnostic>) {
+    let (f, t) = (dialect(from), dialect(to));
+    let mut out = Vec::new();
+    let opts = pipeline::TranslateOptions { follow_source_units: true, ..pipeline::TranslateOptions::for_program("O1000") };
+    let mut diags = pipeline::translate(text, &f, &t, &Profile::default(), opts, |b| out.extend_from_slice(b));
+    let written = String::from_utf8(out).expect("UTF-8");
+    if !diags.iter().any(Diagnostic::is_error) {
+        diags.extend(pipeline::check_translation(text.into(), &f, &written, &t, &Profile::default(), &diags));
+    }
+    (written, diags)
+}
+
+/// Whether the motion check refuses `planted` as a translation of `text`.
+fn check_refuses(text: &str, from: &str, planted: &str, to: &str) -> bool {
+    let found = pipeline::check_translation(text.into(), &dialect(from), planted, &dialect(to), &Profile::default(), &[]);
+    found.iter().any(|d| d.code == ncplan::diag::Code::PostMotionDiffers)
+}
+
+/// Whether a block other than a reference return or a machine-coordinate move writes axis
+/// word `axis` at 0 (`X0.`, `X0`, `X=0`).
+fn restates_zero(out: &str, axis: char) -> bool {
+    out.lines().filter(|l| !["G28", "G30", "G53", "SUPA", "M91", "G74", "G75"].iter().any(|c| l.contains(c))).any(|l| {
+        l.split_whitespace()
+            .any(|w| w.strip_prefix(axis).map(|v| v.trim_start_matches('=')).is_some_and(|v| !v.is_empty() && v.parse::<f64>() == Ok(0.0)))
+    })
+}
+
+/// After `G53 G0 Z0.` and a tool change, Fusion's Haas post moves X and Y first and Z only
+/// with the length offset (`G43 Z15. H1`): Z is where the machine put it, and a translation
+/// that wrote `G0 X-20. Y-8. Z0.` would rapid the new tool, without its length offset, to the
+/// part's top (Haas, Fanuc: an axis a block does not name does not move).
+#[test]
+fn a_machine_coordinate_move_leaves_its_axis_unstated_until_the_source_states_it() {
+    let text = std::fs::read_to_string(crate::root().join("tests/programs/shops/haas/fusion_ngc_pocket.nc")).unwrap();
+    for to in ["haas", "fanuc", "linuxcnc"] {
+        let (out, diags) = translated_and_checked(&text, "haas", to);
+        assert!(!diags.iter().any(Diagnostic::is_error), "{to}: {diags:?}\n{out}");
+        assert!(!out.contains("Y-8. Z0."), "{to}:\n{out}");
+        if to == "haas" {
+            assert!(out.contains("G0 X-20. Y-8.\nG43 H1 Z15.\n"), "{out}");
+            let planted = out.replacen("G0 X-20. Y-8.\n", "G0 X-20. Y-8. Z0.\n", 1);
+            assert_ne!(planted, out);
+            assert!(check_refuses(&text, "haas", &planted, "haas"), "{planted}");
+        }
+    }
+}
+
+/// `G90 G28 Z5.` then `G91 G28 X0. Y0.`: the second return passes through where the tool is,
+/// Z at its reference position; nothing between them moves Z (no `G90` / `Z0.` to the part's
+/// top).
+#[test]
+fn a_mill_return_after_another_restates_no_axis() {
+    let text = "%\nO1001\nG21 G90 G17 G40 G80\nT1 M6\nG54 G0 X50. Y50. S1000 M3\nG43 H1 Z10.\nG1 Z-5. F100\nG1 X60.\nG90 G28 Z5.\nG91 G28 X0. Y0.\nG90 G0 X0. Y0.\nG30 Z0.\nM30\n%\n";
+    for to in ["fanuc", "haas", "linuxcnc"] {
+        let (out, diags) = translated_and_checked(text, "fanuc", to);
+        assert!(!diags.iter().any(Diagnostic::is_error), "{to}: {diags:?}\n{out}");
+        let between = &out[out.find("G28 Z0").expect(&out)..out.find("G28 X0").expect(&out)];
+        assert!(!between.lines().skip(1).any(|l| l.contains('Z')), "{to}:\n{out}");
+        if to == "fanuc" {
+            let planted = out.replacen("G91 G28 X0. Y0.", "Z0.\nG91 G28 X0. Y0.", 1);
+            assert!(check_refuses(text, "fanuc", &planted, "fanuc"), "{planted}");
+        }
+    }
+}
+
+/// The tool starts where the last program left it, not at the program zero: the first move
+/// writes every axis the source names, 0 or not (`G0 G54 X10. Y0. Z0.` is not `G0 X10.`).
+#[test]
+fn the_first_move_keeps_its_axis_words_equal_to_0() {
+    let text = "%\nO1000\nG21 G90 G17\nT1 M6\nS1000 M3\nG0 G54 X10. Y0. Z0.\nG43 H1 Z50.\nG1 Z-1. F100\nG0 Z50.\nM30\n%\n";
+    for to in ["fanuc", "haas", "linuxcnc", "siemens", "heidenhain"] {
+        let (out, diags) = translated_and_checked(text, "fanuc", to);
+        assert!(!diags.iter().any(Diagnostic::is_error), "{to}: {diags:?}\n{out}");
+        let first = out.lines().find(|l| l.contains("X10") || l.contains("X+10")).expect(&out);
+        assert!(first.contains('Y') && first.contains('Z'), "{to}: {first}\n{out}");
+    }
+    let (out, _) = translated_and_checked(text, "fanuc", "fanuc");
+    let planted = out.replacen("X10. Y0. Z0.", "X10.", 1);
+    assert_ne!(planted, out, "{out}");
+    assert!(check_refuses(text, "fanuc", &planted, "fanuc"), "{planted}");
+}
+
+/// Lathes: `G28 U0.` returns X through where the tool is; after it X is at the reference
+/// position until a block states it. Neither the return's intermediate point nor the next
+/// move (`G0 Z2.`) writes `X0.` (a rapid to the centreline), on every lathe target that
+/// writes the return; a target that cannot write it refuses.
+#[test]
+fn a_lathe_return_by_u_leaves_x_unstated_on_every_lathe_target() {
+    let l1 = "%\nO2001\nG21 G18 G99\nG28 U0.\nG28 W0.\nT0101\nG50 S2000\nG96 S200 M3\nG0 X52. Z2. M8\nG1 Z-20. F0.2\nX56.\nG0 Z2.\nG28 U0.\nG28 W0.\nT0202\nG97 S1000 M3\nG0 X30. Z5.\nG1 Z-10. F0.1\nG0 U2. W2.\nG28 U0. W0.\nM30\n%\n";
+    let l3 = "%\nO2003\nG21 G18 G99\nT0101\nG97 S1000 M3\nG0 X30. Z5.\nG1 Z-10. F0.1\nG0 X32.\nG28 U0.\nT0202\nG97 S1000 M3\nG0 Z2.\nG0 X20.\nG1 Z-5. F0.1\nG28 U0. W0.\nM30\n%\n";
+    let lathes = [
+        "fanuc_lathe",
+        "fanuc_lathe_b",
+        "haas_lathe",
+        "mazak_lathe",
+        "mitsubishi_lathe",
+        "okuma_lathe",
+        "fagor_lathe",
+        "siemens",
+        "linuxcnc",
+    ];
+    for text in [l1, l3] {
+        for to in lathes {
+            let (out, diags) = translated_and_checked(text, "fanuc_lathe", to);
+            if diags.iter().any(Diagnostic::is_error) {
+                assert!(diags.iter().any(|d| d.code == ncplan::diag::Code::PostUnwritable), "{to}: {diags:?}");
+                continue;
+            }
+            assert!(!restates_zero(&out, 'X') && !restates_zero(&out, 'Z'), "{to}:\n{out}");
+        }
+    }
+    let (out, diags) = translated_and_checked(l3, "fanuc_lathe", "fanuc_lathe");
+    assert!(!diags.iter().any(Diagnostic::is_error), "{diags:?}");
+    let planted = out.replacen("G0 Z2.\nG0 X20.", "G0 X0. Z2.\nG0 X20.", 1);
+    assert_ne!(planted, out, "{out}");
+    assert!(check_refuses(l3, "fanuc_lathe", &planted, "fanuc_lathe"), "{planted}");
+    let planted = out.replacen("G28 U0.\n", "G28 U0.\nG0 X0.\n", 1);
+    assert!(check_refuses(l3, "fanuc_lathe", &planted, "fanuc_lathe"), "{planted}");
+}
+
+/// An incremental move of an axis whose position the program does not know (`G91 G0 Z-10.`
+/// right after `G28 Z0`) cannot be written as an absolute position: refused with the reason.
+#[test]
+fn an_incremental_move_from_an_unknown_position_is_refused() {
+    let text = "%\nO1002\nG21 G90 G17\nT1 M6\nG0 G54 X10. Y10. Z20.\nG91 G28 Z0.\nG91 G0 Z-10.\nG90 G0 X20.\nM30\n%\n";
+    let (out, diags) = translated_and_checked(text, "fanuc", "haas");
+    assert!(diags.iter().any(|d| d.is_error() && d.message.contains("does not know")), "{diags:?}\n{out}");
+}
