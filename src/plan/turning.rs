@@ -258,9 +258,13 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         ws.feature = ids.first().copied();
     }
     plan.features = features;
-    // Recognition's own note, read above and no value of the plan: a plan read back from
-    // STEP-NC or the store cannot carry it, and must equal the one recovered.
-    // So are the contour blocks a cycle names (for pairing a finish with its roughing).
+    clear_notes(plan);
+}
+
+/// Recognition's own notes, read above and no value of the plan: a plan read back from STEP-NC
+/// or the store cannot carry them, and must equal the one recovered. So are the contour blocks
+/// a cycle names (for pairing a finish with its roughing).
+fn clear_notes(plan: &mut ProcessPlan) {
     for t in plan.workingsteps.iter_mut().filter_map(|w| w.turning.as_mut()) {
         t.mirrored = false;
         if let Some(i) = t.intent.as_mut() {
