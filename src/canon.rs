@@ -236,6 +236,13 @@ pub struct TurnIntent {
     /// length, without run-in and run-out), where the cycle states it (Siemens CYCLE93, CYCLE97).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub span: Option<[f64; 2]>,
+    /// Where a contour cycle's contour blocks stand in the source it reads them from (byte
+    /// offsets of the block P names and of the block Q names): a finishing cycle and the
+    /// roughing cycle whose contour it repeats name the same blocks (Fanuc's G70 runs the
+    /// blocks its P and Q name). Plan recovery pairs them by it and then clears it; not
+    /// written out.
+    #[serde(skip)]
+    pub contour: Option<[u32; 2]>,
 }
 
 /// Distance mode (a marker; the canonical interface itself has none).

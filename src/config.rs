@@ -1199,9 +1199,11 @@ pub const SUBFOLDER_DEPTH: usize = 2;
 const MAX_FOLDERS: usize = 64;
 
 impl DirPrograms {
-    /// The subprograms beside `file`, for a profile that has no program directory of its own.
+    /// The subprograms beside `file`, for a profile that has no program directory of its own;
+    /// and the file's own name, which a call opens it by.
     pub fn beside(profile: &crate::interp::Profile, file: &Path, max_bytes: u64) -> crate::interp::Profile {
         let mut p = profile.clone();
+        p.file_name = file.file_name().map(|n| n.to_string_lossy().into_owned());
         if p.programs.is_none() {
             let dir = file.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
             // The folder's own files: a program handed over from anywhere (a temporary

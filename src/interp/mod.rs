@@ -241,6 +241,10 @@ pub struct Profile {
     /// Whether the file is a main program, a program others call, or to be told from its
     /// form (the config's `role`, `check --as`).
     pub role: ProgramRole,
+    /// The file's name, without its folders (`probe.ngc`), where the shell knows it: a call
+    /// opens a subroutine's own file by the subroutine's name (RS274NGC "Calling Files":
+    /// `o<probe> call` opens `probe.ngc`).
+    pub file_name: Option<String>,
     /// How a condition on an unknown value goes when neither way leads to an alarm; `None`
     /// takes the dictionary's choice (`unknown-conditions`).
     pub unknown_conditions: Option<bool>,
@@ -361,6 +365,7 @@ impl Default for Profile {
             fast_lane: true,
             replay_lane: true,
             role: ProgramRole::Auto,
+            file_name: None,
             unknown_conditions: None,
             x_radius: false,
             lathe_reset: false,

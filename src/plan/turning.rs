@@ -258,10 +258,18 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         ws.feature = ids.first().copied();
     }
     plan.features = features;
-    // Recognition's own note, read above and no value of the plan: a plan read back from
-    // STEP-NC or the store cannot carry it, and must equal the one recovered.
+    clear_notes(plan);
+}
+
+/// Recognition's own notes, read above and no value of the plan: a plan read back from STEP-NC
+/// or the store cannot carry them, and must equal the one recovered. So are the contour blocks
+/// a cycle names (for pairing a finish with its roughing).
+fn clear_notes(plan: &mut ProcessPlan) {
     for t in plan.workingsteps.iter_mut().filter_map(|w| w.turning.as_mut()) {
         t.mirrored = false;
+        if let Some(i) = t.intent.as_mut() {
+            i.contour = None;
+        }
     }
 }
 
@@ -510,18 +518,19 @@ fn follow_roughing(plan: &mut ProcessPlan) {
         if kind(ws) != Some(TurnKind::Finish) || ws.turning.as_ref().and_then(|t| t.operation) != Some(TurnOp::Grooving) {
             continue;
         }
-        let roughed = done.iter().rev().find(|w| kind(w) == Some(TurnKind::RoughTurn));
+        let roughed = roughing_finished(done, ws, &[TurnKind::RoughTurn]);
         let grooved = roughed.is_some_and(|w| w.tool == ws.tool && w.turning.as_ref().and_then(|t| t.operation) == Some(TurnOp::Grooving));
         if let Some(t) = ws.turning.as_mut().filter(|_| !grooved) {
             t.operation = Some(TurnOp::Contouring);
         }
     }
-    // A finishing cycle after a face roughing cycle finishes that cycle's contour (Fanuc's G70
-    // runs the contour the G72 before it roughed, once as written: the operator's manual's
+    // A finishing cycle that repeats a face roughing cycle's contour finishes it (Fanuc's G70
+    // runs the contour blocks its P and Q name, once as written: the operator's manual's
     // "finishing after rough cutting by G71, G72 or G73"), a face profile written from the
     // outside in: facing, as the roughing is, where that contour is mostly across X (a
     // spigot's or a chamfer's run along Z in it is part of the face profile). Not to the
-    // axis needed: a face may stop at a centre hole or a bore.
+    // axis needed: a face may stop at a centre hole or a bore. A G70 over a G71's contour
+    // after a later G72 finishes the G71's.
     for k in 1..plan.workingsteps.len() {
         let (done, rest) = plan.workingsteps.split_at_mut(k);
         let ws = &mut rest[0];
@@ -529,7 +538,7 @@ fn follow_roughing(plan: &mut ProcessPlan) {
         if kind(ws) != Some(TurnKind::Finish) || ws.turning.as_ref().and_then(|t| t.operation) != Some(TurnOp::Contouring) {
             continue;
         }
-        let roughed = done.iter().rev().find(|w| matches!(kind(w), Some(TurnKind::RoughTurn | TurnKind::RoughFace)));
+        let roughed = roughing_finished(done, ws, &[TurnKind::RoughTurn, TurnKind::RoughFace]);
         if roughed.is_some_and(|w| kind(w) == Some(TurnKind::RoughFace))
             && mostly_across(&cuts(ws))
             && let Some(t) = ws.turning.as_mut()
@@ -549,6 +558,20 @@ fn follow_roughing(plan: &mut ProcessPlan) {
         {
             t.inside = true;
         }
+    }
+}
+
+/// The roughing cycle (of the kinds `kinds`) among the workingsteps `done` before it whose
+/// contour the finishing cycle `ws` finishes: the one that names the same contour blocks
+/// (Fanuc's G70 runs the blocks its P and Q name, those a G71, G72 or G73 roughed), the latest
+/// such; where the finish names none (a named cycle's finish), the latest roughing.
+fn roughing_finished<'w>(done: &'w [Workingstep], ws: &Workingstep, kinds: &[TurnKind]) -> Option<&'w Workingstep> {
+    let kind = |w: &Workingstep| w.turning.as_ref().and_then(|t| t.intent.as_ref()).and_then(|i| i.kind);
+    let contour = |w: &Workingstep| w.turning.as_ref().and_then(|t| t.intent.as_ref()).and_then(|i| i.contour);
+    let mut roughings = done.iter().rev().filter(|w| kind(w).is_some_and(|k| kinds.contains(&k)));
+    match contour(ws) {
+        Some(blocks) => roughings.find(|w| contour(w) == Some(blocks)),
+        None => roughings.next(),
     }
 }
 
@@ -1377,19 +1400,22 @@ fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
 /// pair over `X-0.063 Z0.1`, `Z0`, `X3.`): facing, as a turner names what it does. The
 /// contour is the finishing cycle's cut, or the roughing cycle's last pass.
 fn face_contour(contour: &[Move]) -> bool {
-    let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
-    let across: f64 = contour.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(length).sum();
-    let all: f64 = contour.iter().map(length).sum();
+    let (across, all) = across_and_all(contour);
     let lo = contour.iter().flat_map(|m| [m.from[0], m.to[0]]).fold(f64::INFINITY, f64::min);
     all > TOL && across >= 0.75 * all && lo < 0.05
 }
 
 /// Whether cuts run mostly across X: more of their length across than along Z or oblique.
 fn mostly_across(cuts: &[Move]) -> bool {
+    let (across, all) = across_and_all(cuts);
+    all > TOL && 2.0 * across > all
+}
+
+/// The length of the cuts that run across X (at one Z), and of all of them.
+fn across_and_all(cuts: &[Move]) -> (f64, f64) {
     let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
     let across: f64 = cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(length).sum();
-    let all: f64 = cuts.iter().map(length).sum();
-    all > TOL && 2.0 * across > all
+    (across, cuts.iter().map(length).sum())
 }
 
 fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool, drill: Option<f64>) {

@@ -680,3 +680,75 @@ CYCLE952(\"ROUGH\",,\"\",2101311,0.3,0,0,2,0.1,0.1,0.3,0.3,0.1,0,1,0,0,,,,,2,2,,
     assert!(!run(&main.replace("E_LAB_E_S", "E_LAB_E_T")).is_empty());
     assert!(!run(&main.replace("\"SHAFT\"", "\"ELSEWHERE\"")).is_empty());
 }
+
+/// Review 17a: a LinuxCNC main program that opens with a definition (subroutines first, its
+/// own blocks after them) and closes it with another name's `endsub` is no subroutine file:
+/// rs274 -g reads it as a main program, looks past `o<b> endsub` for the `endsub` of `o<a>`
+/// and stops ("File ended with no percent sign or program end"), running nothing. It stays an
+/// error, with no move. The same text in the subroutine's own file (`a.ngc`, which
+/// `o<a> call` opens; or checked `--as called`) is a called file: a call returns at that
+/// `endsub` (rs274 -g on a caller), so a warning says the blocks after it never run, and none
+/// is run. A file where nothing but `M2` follows that `endsub` is a subroutine file whatever
+/// its name.
+#[test]
+fn linuxcnc_a_main_program_opening_with_a_definition_needs_its_own_endsub() {
+    let main = "o<a> sub\nG0 X1\no<b> endsub\nG0 X5\no<a> call\nM2\n";
+    let (moves, diags) = crate::moves_and_findings("linuxcnc", main, &Profile::default());
+    assert!(diags.iter().any(|d| d.is_error() && d.code.as_str() == "flow::missing-label"), "{diags:?}");
+    assert!(!diags.iter().any(|d| d.code.as_str() == "flow::foreign-end-label"), "{diags:?}");
+    assert_eq!(moves, Vec::<String>::new());
+    let named = |name: &str| Profile { file_name: Some(name.to_owned()), ..Profile::default() };
+    let (moves, diags) = crate::moves_and_findings("linuxcnc", main, &named("main.ngc"));
+    assert!(diags.iter().any(|d| d.is_error()), "{diags:?}");
+    assert_eq!(moves, Vec::<String>::new());
+    // Its own file: a called file, whose blocks after the `endsub` never run.
+    for profile in [named("a.ngc"), named("A.NGC"), Profile { role: ncplan::interp::ProgramRole::Called, ..Profile::default() }] {
+        let (moves, diags) = crate::moves_and_findings("linuxcnc", main, &profile);
+        assert!(!diags.iter().any(|d| d.is_error()), "{diags:?}");
+        let warning = diags.iter().find(|d| d.code.as_str() == "flow::foreign-end-label").expect("the warning");
+        assert!(warning.message.contains("never run"), "{}", warning.message);
+        assert_eq!(moves, Vec::<String>::new());
+    }
+    // Nothing but comments and a program end after it: a subroutine file by its form.
+    let sub_file = "o<a> sub\nG0 X1\no<b> endsub\n(end)\nM2\n";
+    assert_eq!(errors("linuxcnc", sub_file), Vec::<String>::new());
+    assert!(findings("linuxcnc", sub_file).iter().any(|c| c == "flow::foreign-end-label"));
+    assert!(!errors("linuxcnc", &sub_file.replace("M2", "G0 X5\nM2")).is_empty());
+}
+
+/// Review 17a: a definition whose own `endsub` comes after an `endsub` of another name returns
+/// at that one when called (rs274 -g: a caller of `o<a2> sub`, `G0 X1`, `o<b> endsub`, `G0 X7`,
+/// `o<a2> endsub` moves to X1 only, in the subroutine's file or in the caller's), so the blocks
+/// between never run: a warning says so, in a subroutine file and in the flow of a program.
+#[test]
+fn linuxcnc_an_endsub_of_another_name_before_the_own_one_ends_the_call() {
+    let file = "o<a2> sub\nG0 X1\no<b> endsub\nG0 X7\no<a2> endsub\nM2\n";
+    assert_eq!(errors("linuxcnc", file), Vec::<String>::new());
+    let (_, diags) = crate::moves_and_findings("linuxcnc", file, &Profile::default());
+    let warning = diags.iter().find(|d| d.code.as_str() == "flow::foreign-end-label").expect("the warning");
+    assert!(warning.message.contains("lines 4 to 4") && warning.message.contains("never run"), "{}", warning.message);
+    let in_flow = "G0 X9\no<a> sub\nG0 X1\no<b> endsub\nG0 X7\no<a> endsub\no<a> call\nM2\n";
+    let (moves, diags) = crate::moves_and_findings("linuxcnc", in_flow, &Profile::default());
+    assert!(!diags.iter().any(|d| d.is_error()), "{diags:?}");
+    assert!(diags.iter().any(|d| d.code.as_str() == "flow::foreign-end-label"), "{diags:?}");
+    assert_eq!(moves.len(), 2, "X9 and X1, never X7: {moves:?}");
+    assert!(moves[1].starts_with("STRAIGHT_TRAVERSE(1.0000,"), "{moves:?}");
+}
+
+/// Review 17a: `IF #100 == 1 N10` is no IF alone: a block number follows the condition (the
+/// block keeps it apart from its words), so CNC12's lookahead-stop reading does not take it;
+/// an IF with only a comment after its condition still is one.
+#[test]
+fn centroid_if_alone_has_nothing_but_a_comment_after_its_condition() {
+    let alone = [
+        "G90 F10\nIF #100 == 1 ;\nG1 X1\nM30\n",
+        "G90 F10\nIF #100 == 1 (wait)\nG1 X1\nM30\n",
+        "G90 F10\nIF #100 == 1 ; N10\nG1 X1\nM30\n",
+    ];
+    for program in alone {
+        assert_eq!(errors("centroid", program), Vec::<String>::new(), "{program}");
+        assert_eq!(xs("centroid", program), vec!["1.0000"], "{program}");
+    }
+    let numbered = "G90 F10\nIF #100 == 1 N10\nG1 X1\nM30\n";
+    assert!(!errors("centroid", numbered).is_empty(), "{:?}", findings("centroid", numbered));
+}

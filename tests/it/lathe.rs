@@ -2426,3 +2426,25 @@ F_END(0,1,0);*RO*\nM30\n";
     assert!(a.iter().all(|x| !x.is_error() && x.code.as_str() != "flow::missing-program"), "{a:?}");
     assert!(kept(&a, "F_ROUGH") && lathe(&a), "{a:?}");
 }
+
+/// Review 17a: Fanuc's `G70` runs the blocks its P and Q name, so it finishes the contour of
+/// the roughing cycle that names the same blocks, not the last roughing cycle before it: an
+/// OD contour roughed by `G71 P20 Q25` and finished by `G70 P20 Q25` after a `G72 P10 Q14`
+/// facing is a contouring finish (it was labelled facing finish, and FACING_FINISH in STEP-NC,
+/// as the face roughing came last); a `G70 P10 Q14` after a later `G71` finishes the face.
+#[test]
+fn a_finish_pairs_with_the_roughing_of_its_own_contour_blocks() {
+    let program = "O1\nG21 G99\nT0101\nG50 S3000\nG96 S200 M3\nG0 X110. Z1.\nG71 U2. R1.\nG71 P20 Q25 U0.4 W0.2 F0.3\n\
+N20 G0 X20.\nN21 G1 Z0.\nN22 X60.\nN23 Z-5.\nN24 X100.\nN25 Z-20.\nG0 X120. Z5.\nG72 W2. R1.\nG72 P10 Q14 U0.4 W0.2 F0.3\n\
+N10 G0 Z-30.\nN11 G1 X100. Z-28.\nN12 X40.\nN13 Z-22.\nN14 X5. Z-20.\nG0 X200. Z200.\nT0303\nG0 X110. Z1.\nG70 P20 Q25 F0.1\n\
+G0 X200. Z200.\nM30\n";
+    let (ws, features) = labels(program, "fanuc_lathe");
+    assert_eq!(ws.last().map(String::as_str), Some("contouring finish"), "{ws:?} {features:?}");
+    // The face's own finish after a later OD roughing is the face's: facing.
+    let face = "O1\nG21 G99\nT0101\nG50 S3000\nG96 S200 M3\nG0 X120. Z5.\nG72 W2. R1.\nG72 P10 Q14 U0.4 W0.2 F0.3\n\
+N10 G0 Z-30.\nN11 G1 X100. Z-28.\nN12 X40.\nN13 Z-22.\nN14 X5. Z-20.\nG0 X110. Z1.\nG71 U2. R1.\nG71 P20 Q25 U0.4 W0.2 F0.3\n\
+N20 G0 X20.\nN21 G1 Z0.\nN22 X60.\nN23 Z-5.\nN24 X100.\nN25 Z-20.\nG0 X200. Z200.\nT0303\nG0 X110. Z1.\nG70 P10 Q14 F0.1\n\
+G0 X200. Z200.\nM30\n";
+    let (ws, features) = labels(face, "fanuc_lathe");
+    assert_eq!(ws.last().map(String::as_str), Some("facing finish"), "{ws:?} {features:?}");
+}

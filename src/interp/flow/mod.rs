@@ -1296,22 +1296,27 @@ impl<'a> Driver<'a, '_> {
     /// there raises no alarm.
     fn ends_program(&self, b: &Block) -> bool {
         b.words.iter().any(|w| {
-            let crate::syntax::Value::Number { value, .. } = w.value else { return false };
-            let code = match w.role {
-                crate::dialect::Role::Keyword => Some(value as usize),
-                crate::dialect::Role::M if value >= 0.0 && value.fract() == 0.0 => self.dialect.code_id('M', (value * 10.0) as u32),
-                _ => None,
-            };
-            code.and_then(|i| self.dialect.codes.get(i)).is_some_and(|c| {
-                // A return ends the way too: the alarms after `M99` are other ways'.
-                matches!(
-                    c.meaning,
+            // A return ends the way too: the alarms after `M99` are other ways'.
+            matches!(
+                self.word_meaning(w),
+                Some(
                     crate::dialect::Meaning::ProgramEnd
                         | crate::dialect::Meaning::ProgramEndRewind
                         | crate::dialect::Meaning::SubprogramReturn
                 )
-            })
+            )
         })
+    }
+
+    /// What an M word or a keyword with a constant value means in the dictionary.
+    fn word_meaning(&self, w: &crate::syntax::Word) -> Option<crate::dialect::Meaning> {
+        let crate::syntax::Value::Number { value, .. } = w.value else { return None };
+        let code = match w.role {
+            crate::dialect::Role::Keyword => Some(value as usize),
+            crate::dialect::Role::M if value >= 0.0 && value.fract() == 0.0 => self.dialect.code_id('M', (value * 10.0) as u32),
+            _ => None,
+        };
+        code.and_then(|i| self.dialect.codes.get(i)).map(|c| c.meaning)
     }
 
     /// Whether `b` raises an alarm: it sets the alarm variable (`#3000 = 1`), names an error
@@ -2021,7 +2026,12 @@ impl<'a> Driver<'a, '_> {
             let corners = interp.corners.replace(None);
             (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take())
         });
-        let intent = interp.turn_intent.take();
+        let mut intent = interp.turn_intent.take();
+        if let Some(t) = intent.as_mut() {
+            // The blocks P and Q name, for pairing a finishing cycle with its roughing.
+            let to = last.and_then(|n| self.numbered_blocks(self.cur, n).iter().find(|p| p.at >= from.at).map(|p| p.at));
+            t.contour = Some([from.at, to.unwrap_or(from.at)].map(|at| u32::try_from(at).unwrap_or(u32::MAX)));
+        }
         if rough.is_none()
             && let Some(t) = intent.clone()
         {

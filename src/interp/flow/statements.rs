@@ -166,8 +166,7 @@ impl<'a> Driver<'a, '_> {
             }
             None if c.statement == Some(Statement::If)
                 && self.dialect.macros.if_alone_reads
-                && block.words.is_empty()
-                && block.assigns.is_empty() =>
+                && nothing_after(block, c, &self.dialect.lexical) =>
             {
                 // `IF #50010`: the condition is read (on CNC12 a PLC input, which stops
                 // lookahead there) and nothing else runs, whichever way it goes.
@@ -435,27 +434,105 @@ impl<'a> Driver<'a, '_> {
             diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
         }
         let head = self.frames.is_empty() && self.cur == 0;
+        let ends = enclosing_end(self.marks(self.cur), start.at, label);
+        if let (Some((own, _)), Some((foreign, after))) = (ends.own, ends.foreign) {
+            let msg = format!(
+                "the `endsub` of line {} names another subroutine, yet a call of this one returns there whatever its name (rs274){}",
+                foreign.line,
+                if after.line < own.line {
+                    format!(": lines {} to {}, before this definition's own `endsub`, never run", after.line, own.line - 1)
+                } else {
+                    String::new()
+                }
+            );
+            diags.push(Diagnostic::new(Code::ForeignEndLabel, c.range, msg));
+        }
         // A definition that opens the file is a subroutine file, which the control reads
         // only when a call opens it (RS274NGC "Calling Files", an M6 remap's `ngc=`): run
         // from its `sub` line, an `endsub` inside one of its `if`s or loops returns like
         // `return`, and the definition ends at the `endsub` no block of it encloses.
         if head && !self.main_work {
-            if let Some((next, foreign)) = enclosing_end(self.marks(self.cur), start.at, label) {
-                if let Some(m) = foreign {
-                    let msg = format!(
-                        "this subroutine file's definition ends at the `endsub` of line {}, which names another subroutine: a call runs the file from its `sub` line and returns at that `endsub` whatever its name (rs274), so the label looks like a copy's leftover",
-                        m.line
-                    );
-                    diags.push(Diagnostic::new(Code::ForeignEndLabel, c.range, msg));
-                }
+            if let Some((_, next)) = ends.own {
                 self.library = true;
                 self.unreadable_body(start, next, diags);
                 self.switch_to(self.cur, next, interp);
                 return;
             }
+            if let Some(foreign) = ends.foreign {
+                self.foreign_end(c, start, label, foreign, interp, diags);
+                return;
+            }
         }
         self.library |= head;
         self.skip_to(start, c.range, "endsub", |m| same_label(m, label, &[Statement::EndSub]), interp, diags);
+    }
+
+    /// A subroutine file's definition with no `endsub` of its own label, and the `endsub` of
+    /// another label `(start, next)` no block of its body encloses. A call of the subroutine
+    /// opens its own file (`o<probe> call` opens `probe.ngc`), runs it from its `sub` line and
+    /// returns at that `endsub` (`rs274 -g`); read as a main program, rs274 looks past it for
+    /// this definition's own `endsub` and stops ("File ended with no percent sign or program
+    /// end"). So the file is a subroutine file with a copy's leftover label (a warning) when it
+    /// is the subroutine's own file (by its name, or called as `check --as called` says), or
+    /// when nothing but a program end, `%` lines or comments follows that `endsub`: no main
+    /// program is written after it. Otherwise (a main program that opens with a definition,
+    /// subroutines first and its own blocks after them) the definition is not closed, and the
+    /// control stops.
+    fn foreign_end(
+        &mut self,
+        c: &Control,
+        start: Pos,
+        label: &Option<String>,
+        (end, next): (Pos, Pos),
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let name = label.as_deref().unwrap_or_default();
+        let own_file = self.profile.role == crate::interp::ProgramRole::Called
+            || self.profile.file_name.as_deref().is_some_and(|f| f.rsplit_once('.').map_or(f, |(stem, _)| stem).eq_ignore_ascii_case(name));
+        let end_follows = self.only_end_follows(next);
+        if !own_file && !end_follows {
+            let msg = format!(
+                "no `endsub` of `o<{name}>` follows: the one of line {} names another subroutine, and ends this definition only in the subroutine's own file `{name}.ngc` that a call opens; read as a main program, the control looks past it for this definition's end and stops at the end of the file",
+                end.line
+            );
+            self.library = true;
+            self.error(diags, Code::MissingLabel, c.range, msg);
+            return;
+        }
+        let msg = format!(
+            "this subroutine file's definition ends at the `endsub` of line {}, which names another subroutine: a call runs the file from its `sub` line and returns at that `endsub` whatever its name (rs274), so the label looks like a copy's leftover{}",
+            end.line,
+            if end_follows { "" } else { "; the blocks after it never run" }
+        );
+        diags.push(Diagnostic::new(Code::ForeignEndLabel, c.range, msg));
+        self.library = true;
+        self.unreadable_body(start, next, diags);
+        if end_follows {
+            self.switch_to(self.cur, next, interp);
+        } else {
+            // A call returns at that `endsub`: what the file holds after it is never run.
+            self.stop = true;
+        }
+    }
+
+    /// Whether nothing but a program end (`M2`, `M30`), `%` lines or comments follows `from`
+    /// up to the first program end or the end of the text.
+    fn only_end_follows(&self, from: Pos) -> bool {
+        let mut parser = self.parser.fork(self.sources[self.cur].text, from.at, from.line);
+        let mut block = Block::default();
+        let mut scratch = Vec::new();
+        while parser.next_block(&mut block, &mut scratch) {
+            if !block.assigns.is_empty() || block.control.is_some() || block.program_number.is_some() || block.label.is_some() {
+                return false;
+            }
+            if !block.words.is_empty() {
+                return block.words.iter().all(|w| {
+                    matches!(self.word_meaning(w), Some(crate::dialect::Meaning::ProgramEnd | crate::dialect::Meaning::ProgramEndRewind))
+                });
+            }
+        }
+        true
     }
 
     /// The blocks of a subroutine file's body (from its `sub` line to `end`) whose text the
@@ -923,30 +1000,44 @@ impl Driver<'_, '_> {
     }
 }
 
-/// Where a subroutine file's definition opened at `after` ends: past its first `endsub` that
-/// no labelled `if`, `while`, `do` or `repeat` of its body encloses (opened after the
-/// definition and still open there). One pass, the open blocks kept as a stack of labels; a
-/// label reused by a later block after its own closed is another block.
-/// Where none has the definition's own label, the first `endsub` of another label that no
-/// block encloses ends it (a copied file whose `endsub` kept the old name): rs274 runs a
-/// called file from its `sub` line and returns at the first `endsub` it meets, whatever its
-/// label; that mark's start comes back beside the end for a finding.
-fn enclosing_end(marks: &[Mark], after: usize, label: &Option<String>) -> Option<(Pos, Option<Pos>)> {
+/// Where a subroutine definition's body ends, as the `endsub` statements after its `sub` line
+/// tell it: the start and the end of each.
+#[derive(Clone, Copy, Debug, Default)]
+struct Ends {
+    /// Its first `endsub` of its own label that no labelled `if`, `while`, `do` or `repeat` of
+    /// its body encloses (opened after the definition and still open there).
+    own: Option<(Pos, Pos)>,
+    /// The first `endsub` of another label before that one (or before the end of the text)
+    /// that no block encloses, and before any other `sub`: rs274 returns from a call at the
+    /// first `endsub` the call meets, whatever its label (`rs274 -g`: a called `o<a> sub`,
+    /// `G0 X1`, `o<b> endsub`, `G0 X7`, `o<a> endsub` moves to X1 only), so a call of this
+    /// definition ends there.
+    foreign: Option<(Pos, Pos)>,
+}
+
+/// The `endsub` statements that end the definition opened at `after` (see [`Ends`]). One
+/// pass, the open blocks kept as a stack of labels; a label reused by a later block after its
+/// own closed is another block.
+fn enclosing_end(marks: &[Mark], after: usize, label: &Option<String>) -> Ends {
     let from = marks.partition_point(|m| m.start.at <= after);
     // The labels open at each point, and whether each was opened by `do` (its `while` closes it).
     let mut open: Vec<(&Option<String>, bool)> = Vec::new();
-    let mut foreign: Option<&Mark> = None;
+    let mut ends = Ends::default();
+    // Another definition inside this one is an error of its own (nested definitions).
+    let mut nested = false;
     for m in &marks[from..] {
         let Some(st) = m.statement else { continue };
+        nested |= st == Statement::Sub;
         if m.label.is_none() {
             continue;
         }
-        if st == Statement::EndSub && open.is_empty() && m.label != *label {
-            foreign = foreign.or(Some(m));
+        if st == Statement::EndSub && open.is_empty() && m.label != *label && !nested {
+            ends.foreign = ends.foreign.or(Some((m.start, m.next)));
         }
         if m.label == *label {
             if st == Statement::EndSub && open.is_empty() {
-                return Some((m.next, None));
+                ends.own = Some((m.start, m.next));
+                return ends;
             }
             continue;
         }
@@ -962,7 +1053,31 @@ fn enclosing_end(marks: &[Mark], after: usize, label: &Option<String>) -> Option
             _ => {}
         }
     }
-    foreign.map(|m| (m.next, Some(m.start)))
+    ends
+}
+
+/// Whether the block holds nothing after the statement `c` but blanks and comments (`IF #50010
+/// ;Prevent lookahead`, not `IF #100 == 1 N10`, whose block number the block keeps apart from
+/// its words).
+fn nothing_after(block: &Block, c: &Control, lexical: &crate::dialect::Lexical) -> bool {
+    use crate::dialect::CommentClose;
+    let delimiter = |ch: char| {
+        lexical.comments.iter().any(|r| {
+            r.open == ch
+                || r.open2 == Some(ch)
+                || match r.close {
+                    CommentClose::Char(x) => x == ch,
+                    CommentClose::Pair(a, b) => a == ch || b == ch,
+                    CommentClose::EndOfLine => false,
+                }
+        })
+    };
+    let from = c.range.end.max(block.range.start);
+    let rest = block.text(TextRange { start: from, end: block.range.end });
+    rest.char_indices().all(|(i, ch)| {
+        let at = from + i as u32;
+        ch.is_whitespace() || delimiter(ch) || block.comments.iter().any(|r| r.start <= at && at < r.end)
+    })
 }
 
 /// Whether mark `m` is one of the statements `sts` labelled `label` (`o100 endwhile` for
