@@ -49,6 +49,7 @@ const ATTRIBUTES: &[&str] = &[
     "initial-plane",
     "initial-retract",
     "same-group-codes",
+    "modes-under-comp",
 ];
 
 /// The behaviour of a dialect without a `<behaviour>` element, and of each attribute left out.
@@ -95,6 +96,7 @@ fn defaults() -> Behaviour {
         initial_plane: Plane::Xy,
         initial_retract_r: false,
         same_group_last_wins: false,
+        comp_locks_modes: false,
     }
 }
 
@@ -138,6 +140,7 @@ impl Cx {
         b.lathe_tool_word_changes = self.either(el, "lathe-tool-word", "selects", "changes");
         b.initial_retract_r = self.either(el, "initial-retract", "initial-level", "r-plane");
         b.same_group_last_wins = self.either(el, "same-group-codes", "error", "last");
+        b.comp_locks_modes = self.either(el, "modes-under-comp", "free", "locked");
         b.initial_plane = self.initial_plane(el);
         b.tapping = self.tap_retract(el);
         b.assign_before_reads = self.parameter_assignment(el);
