@@ -266,12 +266,16 @@ pub(super) fn jump_target_tokens<'t>(tokens: &'t [Token], d: &Dialect) -> &'t [T
         .macros
         .statements
         .iter()
-        .filter(|(_, s)| matches!(s, Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel))
+        .filter(|(_, s)| {
+            matches!(s, Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
+        })
         .filter_map(|(k, _)| k.split(' ').next().map(str::to_ascii_uppercase))
         .collect();
     let is_jump = |t: &Token| {
         let up = t.text.trim().to_ascii_uppercase();
-        keywords.iter().any(|k| up.strip_prefix(k.as_str()).is_some_and(|rest| rest.chars().next().is_none_or(|c| !c.is_ascii_alphabetic())))
+        keywords
+            .iter()
+            .any(|k| up.strip_prefix(k.as_str()).is_some_and(|rest| rest.chars().next().is_none_or(|c| !c.is_ascii_alphabetic())))
     };
     tokens.iter().position(is_jump).map_or(&tokens[tokens.len()..], |i| &tokens[i..])
 }

@@ -1567,9 +1567,8 @@ fn a_jump_s_target_is_the_word_after_its_keyword() {
     // SINUMERIK jumps name a label (`MARKE1:`) or a block number after GOTOF/GOTOB/GOTO/GOTOC;
     // a label holds no keyword, so its place tells it is the target, and a condition is only
     // what stands in `IF …` before the keyword.
-    let program = |jump: &str| {
-        format!("N10 R1=0\nN20 G0 X0 Y0 Z5\nN30 {jump}\nN40 G0 X10\nMARKE1:\nN50 G0 X20\nMARKE2:\nN60 G0 X30\nM30\n")
-    };
+    let program =
+        |jump: &str| format!("N10 R1=0\nN20 G0 X0 Y0 Z5\nN30 {jump}\nN40 G0 X10\nMARKE1:\nN50 G0 X20\nMARKE2:\nN60 G0 X30\nM30\n");
     for kw in ["GOTOF", "GOTO", "GOTOC"] {
         let rows = kind_rows(&program(&format!("{kw} MARKE1")), &program(&format!("{kw} MARKE2")), "siemens");
         assert!(rows.iter().any(|r| r.starts_with("flow_changed | jump target")), "{kw}: {rows:#?}");
