@@ -521,6 +521,10 @@ pub struct Behaviour {
     /// them, the last one in effect (Fanuc, `same-group-codes="last"`), rather than an error
     /// (LinuxCNC, as rs274).
     pub same_group_last_wins: bool,
+    /// Whether the control stops at a plane (G17–G19) or units (G20/G21) code while cutter
+    /// radius compensation is on (`modes-under-comp="locked"`: RS274/NGC, LinuxCNC), so that
+    /// the order of G40 against such a code counts.
+    pub comp_locks_modes: bool,
 }
 
 /// The spindle and retract sequence of a tapping cycle at the bottom of the hole.

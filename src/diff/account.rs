@@ -54,6 +54,10 @@ struct Item {
     /// Whether the original's statement and the edited one call a program or label, as the
     /// parser reads them ([`statement::CALL`]).
     calls: (bool, bool),
+    /// The texts of its statements' words (both sides) that name a jump's target, and of
+    /// those that stand before the jump keyword, its condition
+    /// ([`control::jump_target_tokens`]); both empty where no statement jumps.
+    jump_words: (Vec<String>, Vec<String>),
 }
 
 /// A hunk too large to tell statement by statement.
@@ -414,8 +418,12 @@ fn all_same(bk: &Bulk, sa: &[Stmt], sb: &[Stmt], same: &[(Option<u32>, Option<u3
 /// modal group they set (the dictionary's group of a code; a feed, `F`) set by both, to the
 /// same last word. A code that gives way in its group to a later one is overridden the same as
 /// in one block, so the order within a group counts (`G91` then `G90` is not `G90` then
-/// `G91`); the order across groups does not. Each as (original line, None) or (None, edited
-/// line).
+/// `G91`); the order across groups does not, save where the control stops at a plane or units
+/// code under cutter radius compensation (the dictionary's `modes-under-comp`: RS274/NGC,
+/// LinuxCNC): there `G40` then `G18` runs and `G18` then `G40` stops the program, so a plane or
+/// units code is told apart by whether a `G40` of the hunk's earlier statements comes before
+/// it (in one block the control sets the plane and units before compensation: LinuxCNC's order
+/// of execution). Each as (original line, None) or (None, edited line).
 fn reblocked(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
     let mut out = Vec::new();
     for h in hunks.iter().filter(|h| !h.original.is_empty() && !h.edited.is_empty() && h.original.len() + h.edited.len() <= 8) {
@@ -436,9 +444,16 @@ fn reblocked(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[
 fn modal_state(p: Program<'_>, s: &[Stmt], r: &std::ops::Range<usize>) -> Option<std::collections::BTreeMap<String, String>> {
     use Meaning as M;
     let mut state = std::collections::BTreeMap::new();
+    // Whether a `G40` stands in an earlier statement of `r` (see [`reblocked`]).
+    let (mut comp_off, mut comp_off_here) = (false, false);
     for k in r.clone() {
+        comp_off |= std::mem::take(&mut comp_off_here);
         for t in statement::tokens_in(&statement::text_of(p.text, p.dialect, &s[k]), p.dialect) {
-            let group = match about(&t, p.dialect) {
+            let code = about(&t, p.dialect);
+            comp_off_here |= matches!(code, About::Code(M::CompOff));
+            let locked = p.dialect.behaviour.comp_locks_modes
+                && matches!(code, About::Code(M::PlaneXy | M::PlaneXz | M::PlaneYz | M::UnitsInch | M::UnitsMm));
+            let group = match code {
                 About::Code(
                     m @ (M::PlaneXy
                     | M::PlaneXz
@@ -463,7 +478,8 @@ fn modal_state(p: Program<'_>, s: &[Stmt], r: &std::ops::Range<usize>) -> Option
                 About::Address(Role::F) if t.value.parse::<f64>().is_ok() => "F".to_owned(),
                 _ => return None,
             };
-            state.insert(group, t.text);
+            let word = if locked && comp_off { format!("{} after G40", t.text) } else { t.text };
+            state.insert(group, word);
         }
     }
     Some(state)
@@ -721,7 +737,15 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
             if ctx.flow.is_none() && (calls.0 || calls.1) {
                 ctx.flow = Some(control::Flow::Call);
             }
+            let mut jump_words = (Vec::new(), Vec::new());
+            for (t, d) in [(x.map(|x| &ta[x]), a.dialect), (y.map(|y| &tb[y]), b.dialect)] {
+                let Some(t) = t else { continue };
+                let target = control::jump_target_tokens(t, d);
+                jump_words.0.extend(target.iter().map(|t| t.text.clone()));
+                jump_words.1.extend(t[..t.len() - target.len()].iter().filter(|_| !target.is_empty()).map(|t| t.text.clone()));
+            }
             items.push(Item {
+                jump_words,
                 calls,
                 original: oi,
                 edited: ei,
@@ -1257,11 +1281,13 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
                 }
                 _ => "repeat count".to_owned(),
             },
+            // A jump, conditional or not: its differing words after the jump keyword name the
+            // target (`GOTOF MARKE1` → `MARKE2`), those before it the condition (Heidenhain
+            // `FN 9: IF +Q1 EQU +0 GOTO LBL 5` → `EQU +1`, `IF R1<3 GOTOB` → `R1<4`).
+            control::Flow::Branch | control::Flow::Jump if !it.jump_words.0.is_empty() => jump_field(it).to_owned(),
             control::Flow::Branch if c.after.contains("GOTO") || c.before.contains("GOTO") => {
                 control::jump_part(&c.before, &c.after).to_owned()
             }
-            // A conditional jump whose differing words are its condition (Heidenhain `FN 9: IF
-            // +Q1 EQU +0 GOTO LBL 5` → `EQU +1`): the condition, not the target.
             control::Flow::Jump if !it.diffs.iter().any(|x| control::jump_target_word(x, d)) => "condition".to_owned(),
             control::Flow::Jump => "jump target".to_owned(),
             _ => flow.field().to_owned(),
@@ -1278,6 +1304,18 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
         }
         c.kind = ChangeKind::FlowChanged;
         c.field = field;
+    }
+}
+
+/// What a jump statement's differing words change (see [`Item::jump_words`]): its target where
+/// every one names it, its condition where none does, else both.
+fn jump_field(it: &Item) -> &'static str {
+    let target = |t: &Option<Token>| t.as_ref().is_some_and(|t| it.jump_words.0.contains(&t.text) && !it.jump_words.1.contains(&t.text));
+    let targets = it.diffs.iter().filter(|(x, y)| target(x) || target(y)).count();
+    match targets {
+        0 => "condition",
+        n if n == it.diffs.len() => "jump target",
+        _ => "condition and jump target",
     }
 }
 

@@ -252,3 +252,30 @@ pub(super) fn count_loop_key(key: &str, d: &Dialect) -> bool {
     let word = key.strip_prefix(['O', 'o']).map_or(key, |r| r.trim_start_matches(|c: char| c.is_ascii_digit()));
     d.macros.statement(word) == Some(Statement::Repeat)
 }
+
+/// The tokens of a jump statement that name where it jumps: the jump keyword's token and those
+/// after it (`GOTOF MARKE1`, `IF R1<3 GOTOB N100`, `FN 9: IF +Q1 EQU +0 GOTO LBL 5`,
+/// `IF [#1 EQ 0] GOTO 100`); empty where the statement holds no jump keyword of the dictionary.
+/// A jump names its target right after its keyword (SINUMERIK Fundamentals, program jumps:
+/// `GOTOF <label>`, a label `MARKE1:` or a block number `N100`; TNC `FN 9: IF … GOTO LBL n`;
+/// Fanuc `IF [<condition>] GOTO n`); what stands before the keyword is the condition (`IF …`,
+/// the function `FN 9` that names the comparison). So a label's own name (`MARKE1`, which holds
+/// no keyword) is the target by where it stands, not by what it spells.
+pub(super) fn jump_target_tokens<'t>(tokens: &'t [Token], d: &Dialect) -> &'t [Token] {
+    let keywords: Vec<String> = d
+        .macros
+        .statements
+        .iter()
+        .filter(|(_, s)| {
+            matches!(s, Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
+        })
+        .filter_map(|(k, _)| k.split(' ').next().map(str::to_ascii_uppercase))
+        .collect();
+    let is_jump = |t: &Token| {
+        let up = t.text.trim().to_ascii_uppercase();
+        keywords
+            .iter()
+            .any(|k| up.strip_prefix(k.as_str()).is_some_and(|rest| rest.chars().next().is_none_or(|c| !c.is_ascii_alphabetic())))
+    };
+    tokens.iter().position(is_jump).map_or(&tokens[tokens.len()..], |i| &tokens[i..])
+}

@@ -545,7 +545,9 @@ impl Interpreter<'_> {
             Meaning::Other | Meaning::Output => return None,
             m => {
                 // A turning machine's cycle is a lathe's word, expanded or not.
-                self.lathe_words.0 += u32::from(m == Meaning::CycleTurnIntent);
+                if m == Meaning::CycleTurnIntent {
+                    self.lathe_word();
+                }
                 let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", cycle.name, m.as_str());
                 self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
                 return None;

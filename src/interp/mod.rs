@@ -1028,6 +1028,10 @@ pub struct Interpreter<'a> {
     /// (`DIAMON` first) or ever stated radius programming (`DIAMOF`): the evidence of a
     /// lathe's reset state (`lathe_evidence`).
     lathe_words: (u32, bool),
+    /// The plane the program last stated (G17, G18, G19), if it stated one: a turning word
+    /// read while a stated milling plane is in force is no evidence of a lathe's reset state
+    /// (`lathe_word`).
+    stated_plane: Option<crate::canon::Plane>,
     /// T words read, M6 (a tool change) read, `DIAMON` read: the evidence of a lathe's tool
     /// change with the T word (`lathe-tool-word`).
     tool_words: (u32, bool, bool),
@@ -1133,6 +1137,7 @@ impl<'a> Interpreter<'a> {
             radius_units: [0; 2],
             first_radius_units: None,
             lathe_words: (0, false),
+            stated_plane: None,
             tool_words: (0, false, false),
             intent_words: false,
             numbered_spindles: false,
@@ -1213,6 +1218,19 @@ impl<'a> Interpreter<'a> {
                     format!("{} more findings like `{what}` were not listed", count - NOTE_LIMIT),
                 ));
             }
+        }
+    }
+
+    /// A lathe's word read (a turning cycle, expanded or kept as intent, a spindle speed
+    /// limit, constant cutting rate): evidence that the machine is a lathe, which reads X as a
+    /// diameter in the ZX plane from reset, unless the program has stated a milling plane (G17,
+    /// G19) that is in force. A lathe's turning plane is G18 (SINUMERIK Fundamentals: plane
+    /// selection; turning cycles run in G18): a program that says G17 and machines in it is a
+    /// mill's, and a cycle it names (CYCLE930 kept as intent) must not re-read its stated
+    /// milling moves as a lathe's.
+    fn lathe_word(&mut self) {
+        if !matches!(self.stated_plane, Some(crate::canon::Plane::Xy | crate::canon::Plane::Yz)) {
+            self.lathe_words.0 += 1;
         }
     }
 

@@ -95,7 +95,7 @@ impl Interpreter<'_> {
         sink: &mut dyn CanonSink,
         diags: &mut Vec<Diagnostic>,
     ) {
-        self.lathe_words.0 += 1;
+        self.lathe_word();
         let cycle = &self.dialect.cycles[ci];
         let (name, meaning) = (cycle.name.clone(), cycle.meaning);
         let contour = self.cycle_text.take();

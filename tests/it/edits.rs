@@ -1539,3 +1539,65 @@ fn a_conditional_jump_s_condition_is_told_as_its_condition() {
     let rows = kind_rows(a, &b, "heidenhain");
     assert!(rows.iter().any(|r| r.starts_with("flow_changed | jump target")), "{rows:#?}");
 }
+
+/// A LinuxCNC program that turns compensation off, then changes the plane or the units.
+const COMP_THEN_MODE: &str =
+    "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG41 D1 G1 X10 Y0\nG1 X20\nG40\nG18 G90\nG0 Z20\nM30\n";
+
+#[test]
+fn a_plane_or_units_code_moved_before_g40_is_no_reblocking_where_the_control_stops() {
+    // rs274ngc: "Cannot change planes with cutter radius compensation on", "Cannot change units
+    // with cutter radius compensation on" (the dictionary's `modes-under-comp`): `G40` then
+    // `G18` runs, `G18` then `G40` stops. The edit must be told, not passed as re-blocked.
+    for (mode, moved) in [("G18", "G18\nG40 G90\n"), ("G20", "G20\nG40 G90\n")] {
+        let a = COMP_THEN_MODE.replace("G18 G90\n", &format!("{mode} G90\n"));
+        let b = a.replace(&format!("G40\n{mode} G90\n"), moved);
+        let rows = kind_rows(&a, &b, "linuxcnc");
+        assert!(!rows.is_empty(), "{mode}: {rows:#?}");
+    }
+    // The same codes only re-blocked with `G40` still first: no change.
+    let b = COMP_THEN_MODE.replace("G40\nG18 G90\n", "G40\nG18\nG90\n");
+    assert!(kind_rows(COMP_THEN_MODE, &b, "linuxcnc").is_empty());
+    let b = COMP_THEN_MODE.replace("G40\nG18 G90\n", "G40 G90\nG18\n");
+    assert!(kind_rows(COMP_THEN_MODE, &b, "linuxcnc").is_empty());
+}
+
+#[test]
+fn a_jump_s_target_is_the_word_after_its_keyword() {
+    // SINUMERIK jumps name a label (`MARKE1:`) or a block number after GOTOF/GOTOB/GOTO/GOTOC;
+    // a label holds no keyword, so its place tells it is the target, and a condition is only
+    // what stands in `IF …` before the keyword.
+    let program =
+        |jump: &str| format!("N10 R1=0\nN20 G0 X0 Y0 Z5\nN30 {jump}\nN40 G0 X10\nMARKE1:\nN50 G0 X20\nMARKE2:\nN60 G0 X30\nM30\n");
+    for kw in ["GOTOF", "GOTO", "GOTOC"] {
+        let rows = kind_rows(&program(&format!("{kw} MARKE1")), &program(&format!("{kw} MARKE2")), "siemens");
+        assert!(rows.iter().any(|r| r.starts_with("flow_changed | jump target")), "{kw}: {rows:#?}");
+        assert!(!rows.iter().any(|r| r.contains("condition")), "{kw}: {rows:#?}");
+        let (a, b) = (program(&format!("IF R1<3 {kw} MARKE1")), program(&format!("IF R1<3 {kw} MARKE2")));
+        let rows = kind_rows(&a, &b, "siemens");
+        assert!(rows.iter().any(|r| r.starts_with("flow_changed | jump target")), "IF {kw}: {rows:#?}");
+        assert!(!rows.iter().any(|r| r.contains("condition")), "IF {kw}: {rows:#?}");
+        let rows = kind_rows(&a, &program(&format!("IF R1<4 {kw} MARKE1")), "siemens");
+        assert!(rows.iter().any(|r| r.starts_with("flow_changed | condition")), "IF {kw} condition: {rows:#?}");
+        assert!(!rows.iter().any(|r| r.contains("jump target")), "IF {kw} condition: {rows:#?}");
+    }
+    // A jump back to a block number.
+    let back = |n: &str| format!("N10 R1=0\nN20 G0 X0 Y0 Z5\nN30 G0 X10\nN40 R1=R1+1\nN50 IF R1<3 GOTOB {n}\nN60 M30\n");
+    let rows = kind_rows(&back("N30"), &back("N20"), "siemens");
+    assert!(rows.iter().any(|r| r.starts_with("flow_changed | jump target")), "{rows:#?}");
+    assert!(!rows.iter().any(|r| r.contains("condition")), "{rows:#?}");
+    // Fanuc `IF [..] GOTO n`: the block number after GOTO is the target, the bracket the condition.
+    let fanuc = |jump: &str| format!("O1000\n#1=0\nG0 X0 Y0 Z5\n{jump}\nG0 X10\nN100 G0 X20\nN200 G0 X30\nM30\n");
+    let a = fanuc("IF [#1 EQ 0] GOTO 100");
+    let rows = kind_rows(&a, &fanuc("IF [#1 EQ 0] GOTO 200"), "fanuc");
+    assert!(rows.iter().any(|r| r.starts_with("flow_changed | jump target")), "{rows:#?}");
+    assert!(!rows.iter().any(|r| r.contains("condition")), "{rows:#?}");
+    let rows = kind_rows(&a, &fanuc("IF [#1 EQ 1] GOTO 100"), "fanuc");
+    assert!(rows.iter().any(|r| r.starts_with("flow_changed | condition")), "{rows:#?}");
+    assert!(!rows.iter().any(|r| r.contains("jump target")), "{rows:#?}");
+    // LinuxCNC O-word branches have no jump: a condition stays a condition.
+    let o = |c: &str| format!("#1 = 0\nG0 X0 Y0 Z5\no100 if [#1 {c} 0]\nG0 X10\no100 endif\nM2\n");
+    let rows = kind_rows(&o("EQ"), &o("NE"), "linuxcnc");
+    assert!(rows.iter().any(|r| r.starts_with("flow_changed | condition")), "{rows:#?}");
+    assert!(!rows.iter().any(|r| r.contains("jump target")), "{rows:#?}");
+}

@@ -2448,3 +2448,25 @@ G0 X200. Z200.\nM30\n";
     let (ws, features) = labels(face, "fanuc_lathe");
     assert_eq!(ws.last().map(String::as_str), Some("facing finish"), "{ws:?} {features:?}");
 }
+
+/// A milling program that states G17 and calls a turning cycle kept as intent after its last
+/// move (review17b's `m2.mpf`) stays a mill's: a lathe's turning plane is G18, and a cycle the
+/// program names under its own stated milling plane must not re-read its milling moves with X
+/// as a diameter. The same cycle after a stated G18 still shows the lathe.
+#[test]
+fn a_turning_cycle_under_a_stated_milling_plane_does_not_make_a_lathe() {
+    let d = Registry::shipped().get("siemens").unwrap();
+    let mill = "; mill part\nG17 G90 G54 G71\nT=\"CUTTER10\" M6\nS3000 M3 D1\nG0 X50 Y20 Z5\nG1 Z-2 F300\nG1 X80 Y20\nG1 X80 Y60\nG0 Z50\n";
+    let cycle = "CYCLE930(50,0,10,10,2,0,0,0,0,0,0,0,0,0,0,0,0,1,1,0.1,0.1,0.2,0.2,1,10001,1,0,2,1,10)\n";
+    let with_cycle = format!("{mill}{cycle}M30\n");
+    let a = pipeline::analyze_plan(with_cycle.as_bytes(), &d, &Profile::default());
+    assert!(a.diagnostics.iter().all(|x| x.code.as_str() != "interp::x-words-diameter"), "{:?}", a.diagnostics);
+    let plan = a.plan;
+    let xs: Vec<f64> = plan.workingsteps.iter().flat_map(|w| w.toolpath.iter().map(|m| m.to[0])).collect();
+    assert!(xs.iter().any(|&x| (x - 80.0).abs() < 1e-6), "X read as written: {xs:?}");
+    assert!(xs.iter().all(|&x| (x - 40.0).abs() > 1e-6), "no X halved: {xs:?}");
+    // After a stated G18, the same cycle is a lathe's word.
+    let turned = format!("{}G18\n{cycle}M30\n", mill.replace("G17 ", ""));
+    let a = pipeline::analyze(turned.as_bytes(), &d, &Profile::default());
+    assert!(a.diagnostics.iter().any(|x| x.code.as_str() == "interp::x-words-diameter"), "{:?}", a.diagnostics);
+}

@@ -50,6 +50,7 @@ const ATTRIBUTES: &[&str] = &[
     "initial-retract",
     "same-group-codes",
     "machine-coords-rapid",
+    "modes-under-comp",
 ];
 
 /// The behaviour of a dialect without a `<behaviour>` element, and of each attribute left out.
@@ -97,6 +98,7 @@ fn defaults() -> Behaviour {
         initial_plane: Plane::Xy,
         initial_retract_r: false,
         same_group_last_wins: false,
+        comp_locks_modes: false,
     }
 }
 
@@ -141,6 +143,7 @@ impl Cx {
         b.lathe_tool_word_changes = self.either(el, "lathe-tool-word", "selects", "changes");
         b.initial_retract_r = self.either(el, "initial-retract", "initial-level", "r-plane");
         b.same_group_last_wins = self.either(el, "same-group-codes", "error", "last");
+        b.comp_locks_modes = self.either(el, "modes-under-comp", "free", "locked");
         b.initial_plane = self.initial_plane(el);
         b.tapping = self.tap_retract(el);
         b.assign_before_reads = self.parameter_assignment(el);

@@ -25,6 +25,7 @@ impl Interpreter<'_> {
             return;
         }
         self.st.plane = plane;
+        self.stated_plane = Some(plane);
         self.emit(sink, CanonOp::SelectPlane(plane));
     }
 

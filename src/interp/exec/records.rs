@@ -54,7 +54,9 @@ impl Interpreter<'_> {
     /// A cycle this interpreter keeps as intent only: its moves are not expanded.
     pub(super) fn cycle_intent(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
         // A turning machine's cycle is a lathe's word, expanded or not.
-        self.lathe_words.0 += u32::from(def.meaning == Meaning::CycleTurnIntent);
+        if def.meaning == Meaning::CycleTurnIntent {
+            self.lathe_word();
+        }
         let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", def.label(), def.name);
         self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
     }

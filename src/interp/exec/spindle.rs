@@ -117,7 +117,7 @@ impl Interpreter<'_> {
                 }
             }
             Meaning::SpindleCss => {
-                self.lathe_words.0 += 1;
+                self.lathe_word();
                 // LinuxCNC's D or Siemens' LIMS in the block, else the limit set before (a
                 // lathe's `G50 S`), else none (rs274 says 1e30).
                 let max = self
@@ -158,7 +158,7 @@ impl Interpreter<'_> {
     pub(super) fn speed_word(&mut self, sink: &mut dyn CanonSink) {
         // `LIMS=3000` (Siemens) sets the limit of constant surface speed, now or later.
         if let Some(max) = self.slot(Role::SpindleLimit) {
-            self.lathe_words.0 += 1;
+            self.lathe_word();
             self.set_spindle_limit(max, sink);
         }
         // `G50 S3200` on a lathe limits the speed; it does not set it.
