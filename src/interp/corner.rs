@@ -110,6 +110,9 @@ pub(super) struct Corners {
     after: Vec<Canon>,
     /// A corner block waiting for the next move: what, and its block's range and line.
     pending: Option<(Corner, TextRange, u32)>,
+    /// Whether the pending corner is a modal rounding's (`RNDM`), made only where it falls
+    /// between two straight feeds in the plane and silently left out elsewhere.
+    pending_modal: bool,
     /// An approach waiting for the contour's first element.
     approach: Option<Approach>,
     /// Ops settled and ready to go on, in order.
@@ -138,13 +141,33 @@ impl Corners {
     }
 
     /// A corner block: the corner at the end of the held move is to be rounded or chamfered.
-    pub(super) fn mark(&mut self, corner: Corner, origin: TextRange, line: u32) {
+    ///
+    /// A `modal` corner (`RNDM`) is only made between two straight feeds in the plane: the
+    /// 840D inserts no rounding where the path leaves the plane or a rapid follows, and
+    /// raises no alarm (840D sl programming manual, fundamentals, "Chamfer, rounding": modal
+    /// rounding is inserted "at all following contour corners"; a corner with a rapid or an
+    /// infeed beside it is none), so there it is left out without a finding.
+    pub(super) fn mark(&mut self, corner: Corner, origin: TextRange, line: u32, modal: bool) {
         if self.held.is_none() || self.pending.is_some() {
             let arc = self.held.is_none() && self.pending.is_none() && self.after_arc;
-            self.problem = Some(if arc { CornerProblem::ArcNeighbour } else { CornerProblem::NoMoveBefore });
+            if arc {
+                self.problem = Some(CornerProblem::ArcNeighbour);
+            } else {
+                self.fail(CornerProblem::NoMoveBefore, modal);
+            }
             return;
         }
         self.pending = Some((corner, origin, line));
+        self.pending_modal = modal;
+    }
+
+    /// Corner `p` cannot be made: a finding, but for a modal rounding's corner off the plane
+    /// or without a straight feed on both sides, which the control silently leaves out.
+    fn fail(&mut self, p: CornerProblem, modal: bool) {
+        let skipped = modal && matches!(p, CornerProblem::NoMoveBefore | CornerProblem::NoMoveAfter | CornerProblem::NotPlanar);
+        if !skipped {
+            self.problem = Some(p);
+        }
     }
 
     /// An approach block: its moves go out when the first contour element arrives.
@@ -183,7 +206,8 @@ impl Corners {
             CanonOp::StraightFeed(end) => {
                 let start = self.pos.unwrap_or(end);
                 if let Some((corner, origin, line)) = self.pending.take() {
-                    self.make_corner(corner, origin, line, start, end);
+                    let modal = std::mem::take(&mut self.pending_modal);
+                    self.make_corner(corner, (origin, line, modal), start, end);
                 } else {
                     self.release_held();
                 }
@@ -200,6 +224,7 @@ impl Corners {
             CanonOp::ArcFeed { first_end, second_end, axis_end, abc, .. } => {
                 if self.pending.take().is_some() {
                     // A line, the corner, then an arc.
+                    self.pending_modal = false;
                     self.problem = Some(CornerProblem::ArcNeighbour);
                 }
                 self.moved_otherwise();
@@ -281,7 +306,8 @@ impl Corners {
 
     fn moved_otherwise(&mut self) {
         if self.pending.take().is_some() {
-            self.problem = Some(CornerProblem::NoMoveAfter);
+            let modal = std::mem::take(&mut self.pending_modal);
+            self.fail(CornerProblem::NoMoveAfter, modal);
         }
         self.release_held();
     }
@@ -300,7 +326,9 @@ impl Corners {
 
     /// Resolves the corner between the held move (ending at the corner) and the move to `end`,
     /// in the working plane's (first, second) coordinates.
-    fn make_corner(&mut self, corner: Corner, origin: TextRange, line: u32, at: [f64; 6], end: [f64; 6]) {
+    /// `block`: the corner block's range and line, and whether its corner is a modal rounding's.
+    fn make_corner(&mut self, corner: Corner, block: (TextRange, u32, bool), at: [f64; 6], end: [f64; 6]) {
+        let (origin, line, modal) = block;
         let Some(first) = self.held.take() else { return };
         let from = first.from;
         let (a0, a1, n) = self.axes();
@@ -315,7 +343,7 @@ impl Corners {
         let turn = cross(d1, d2);
         let cos = d1.0 * d2.0 + d1.1 * d2.1;
         if !planar {
-            self.problem = Some(CornerProblem::NotPlanar);
+            self.fail(CornerProblem::NotPlanar, modal);
         }
         // Along each move, how far from the corner the new element starts and ends.
         let mut back = match corner {

@@ -372,13 +372,16 @@ impl Interpreter<'_> {
         let mut role = w.role;
         // Words kept but not interpreted (`DISR=1 DISCL=2`): two addresses of that role are two
         // addresses; only the same one written twice is a duplicate.
-        if role == Role::Extra
-            && let Some(s) = self.slots[role as usize]
-        {
+        // Every earlier such word of the block counts, not only the last in the slot
+        // (`DISR=1 DISCL=2 DISR=3` writes DISR twice).
+        if role == Role::Extra && self.slots[role as usize].is_some() {
             let name = |r: TextRange| {
                 block.text(r).trim().chars().take_while(|c| c.is_ascii_alphabetic() || *c == '_').collect::<String>().to_ascii_uppercase()
             };
-            if name(s.range) != name(w.range) {
+            let own = name(w.range);
+            let again =
+                block.words.iter().any(|o| o.role == Role::Extra && !o.cycle_arg && o.range.start < w.range.start && name(o.range) == own);
+            if !again {
                 return Some(role);
             }
         }
@@ -391,10 +394,17 @@ impl Interpreter<'_> {
         }
         if self.slots[role as usize].is_some() {
             let shown = block.text(w.range);
+            // A kept address is named whole (`DISR`), the others by their letter.
+            let address = match role {
+                Role::Extra => {
+                    shown.trim().chars().take_while(|c| c.is_ascii_alphabetic() || *c == '_').collect::<String>().to_ascii_uppercase()
+                }
+                _ => (w.letter as char).to_string(),
+            };
             diags.push(Diagnostic::new(
                 Code::DuplicateWord,
                 w.range,
-                format!("`{shown}`: the address {} appears twice in this block", w.letter as char),
+                format!("`{shown}`: the address {address} appears twice in this block"),
             ));
             return None;
         }

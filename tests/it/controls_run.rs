@@ -752,3 +752,69 @@ fn centroid_if_alone_has_nothing_but_a_comment_after_its_condition() {
     let numbered = "G90 F10\nIF #100 == 1 N10\nG1 X1\nM30\n";
     assert!(!errors("centroid", numbered).is_empty(), "{:?}", findings("centroid", numbered));
 }
+
+/// Modal rounding (`RNDM`) is inserted only between two straight feeds in the working plane:
+/// the 840D rounds "all following contour corners" and inserts nothing, with no alarm, where
+/// the path leaves the plane (an infeed in Z) or a rapid follows (840D sl programming manual,
+/// fundamentals, "Chamfer, rounding"). A block with `RNDM=` alone has no corner of its own.
+/// Review17c: these gave three `interp::bad-arc` errors. A rounding written on one corner
+/// (`RND=`) that cannot be made stays the error it is.
+#[test]
+fn siemens_modal_rounding_is_left_out_where_the_path_leaves_the_plane() {
+    let program = "G17 G90 G94 F100\nG0 X0 Y0 Z5\nG1 Z-1\nRNDM=2\nG1 X20\nY20\nG0 Z10\nX50 Y50\nM30\n";
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+    let rounded = moves("siemens", program);
+    // The one corner in the plane, X20 Y0, is rounded; the infeed and the retract are as written.
+    assert_eq!(rounded.iter().filter(|m| m.starts_with("ARC_FEED")).count(), 1, "{rounded:?}");
+    assert!(rounded.contains(&"STRAIGHT_FEED(18.0000, 0.0000, -1.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{rounded:?}");
+    assert!(rounded.contains(&"STRAIGHT_FEED(20.0000, 20.0000, -1.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{rounded:?}");
+    assert!(rounded.contains(&"STRAIGHT_TRAVERSE(20.0000, 20.0000, 10.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{rounded:?}");
+    // RNDM=0 before the retract: nothing left to round, nothing said.
+    let ended = program.replace("G0 Z10", "RNDM=0\nG0 Z10");
+    assert_eq!(errors("siemens", &ended), Vec::<String>::new());
+    // A rounding of its own on a corner with an infeed beside it is still refused.
+    let own = "G17 G90 G94 F100\nG0 X0 Y0 Z5\nG1 Z-1 RND=2\nG1 X20\nM30\n";
+    assert!(errors("siemens", own).iter().any(|e| e.starts_with("interp::bad-arc")), "{:?}", errors("siemens", own));
+}
+
+/// The analysis follows the main spindle (spindle 1; `SETMS` is kept as intent) where a block
+/// numbers several, in whatever order they are written; the other's words are kept as intent
+/// (840D sl programming manual, fundamentals: `S<n>=`, `M<n>=` address spindle n). Review17c:
+/// `S2=500 M2=3 S1=1000 M1=4` followed spindle 2 at 500 and dropped the main spindle.
+#[test]
+fn siemens_the_main_spindle_is_followed_wherever_the_block_writes_it() {
+    let program = "G18 G90 G95\nT1 D1\nS2=500 M2=3 S1=1000 M1=4\nG0 X20 Z2\nG1 Z-20 F0.2\nM30\n";
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+    let (_, diags) = crate::moves_and_findings("siemens", program, &Profile::default());
+    for kept in ["`S2=500`", "`M2=3`"] {
+        assert!(diags.iter().any(|d| d.code.as_str() == "syntax::unmodelled" && d.message.contains(kept)), "{kept}: {diags:?}");
+    }
+    let d = ncplan::dialect::Registry::shipped().get("siemens").unwrap();
+    let mut out = Vec::new();
+    ncplan::interp::interpret(program, &d, &Profile::default(), &mut out);
+    use ncplan::canon::CanonOp;
+    assert!(out.iter().any(|c| c.op == CanonOp::SetSpindleSpeed(1000.0)), "{out:?}");
+    assert!(out.iter().any(|c| c.op == CanonOp::StartSpindleCounterclockwise), "{out:?}");
+    assert!(!out.iter().any(|c| c.op == CanonOp::SetSpindleSpeed(500.0)), "{out:?}");
+    assert!(!out.iter().any(|c| matches!(c.op, CanonOp::Spindle(_))), "the main spindle throughout: {out:?}");
+}
+
+/// Kept addresses of one role (`DISR=`, `DISCL=`) are told apart by name, and each is compared
+/// with every earlier one of the block, not only the last: `DISR=1 DISCL=2 DISR=3` writes DISR
+/// twice, which the control rejects. Review17c: no finding.
+#[test]
+fn siemens_a_kept_address_written_twice_apart_is_a_duplicate() {
+    let errs = errors("siemens", "G17 G90 G94 F100\nG0 X0 Y0\nG1 X10 DISR=1 DISCL=2 DISR=3\nM30\n");
+    assert!(errs.iter().any(|e| e.starts_with("syntax::duplicate-word") && e.contains("DISR")), "{errs:?}");
+    assert_eq!(errors("siemens", "G17 G90 G94 F100\nG0 X0 Y0\nG1 X10 DISR=1 DISCL=2 FAD=3\nM30\n"), Vec::<String>::new());
+}
+
+/// The 840D's manual makes a rounding too large for its move smaller; no manual of the older
+/// SINUMERIK 810/820/840C at hand says so, so there it stays refused, as it was before the
+/// 840D's rule (review17c).
+#[test]
+fn sinumerik_810_still_refuses_a_rounding_too_large_for_its_move() {
+    let program = "G17 G90 G94 F100\nG0 X0 Y0\nG1 X20 RND=30\nY1\nM30\n";
+    assert!(errors("siemens_810", program).iter().any(|e| e.starts_with("interp::bad-arc")), "{:?}", errors("siemens_810", program));
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+}

@@ -63,9 +63,10 @@ impl Interpreter<'_> {
     pub(super) fn corner_code(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
         let size = if def.meaning == Meaning::CornerRound { self.slot(Role::R) } else { self.slot(Role::Geometry) };
         match size {
-            Some(v) if v > 0.0 => {
-                self.mark_corner(if def.meaning == Meaning::CornerRound { corner::Corner::Round(v) } else { corner::Corner::Chamfer(v) })
-            }
+            Some(v) if v > 0.0 => self.mark_corner(
+                if def.meaning == Meaning::CornerRound { corner::Corner::Round(v) } else { corner::Corner::Chamfer(v) },
+                false,
+            ),
             // An unknown size (the tool radius, `RND RQ108`): the word was left out
             // and said so; the corner stays sharp.
             None if self.word_unknown(if def.meaning == Meaning::CornerRound { Role::R } else { Role::Geometry }) => {}
@@ -84,16 +85,21 @@ impl Interpreter<'_> {
     pub(in crate::interp) fn corner_words(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) {
         let mut words = [Role::CornerRadius, Role::CornerChamfer, Role::CornerChamferLength].map(|r| self.slot(r));
         // `RNDM=r`: its value stands in the corner radius's slot.
-        if self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::RoundModal) {
+        // A block without a move (`RNDM=2` alone) has no corner of its own: the rounding
+        // starts at the next move's end.
+        let rndm = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::RoundModal);
+        if rndm {
             let r = words[0].unwrap_or(0.0);
             if r < 0.0 {
                 diags.push(Diagnostic::new(Code::MissingParameter, range, "a modal rounding (RNDM) needs a radius of zero (off) or above"));
             }
             self.st.round_modal = (r > 0.0).then_some(r);
-            if r <= 0.0 {
+            if r <= 0.0 || !self.has_axes {
                 words[0] = None;
             }
         }
+        // A modal rounding's corner, left out where it is none (`Corners::mark`).
+        let modal = rndm || words == [None, None, None];
         let (size, corner) = match (words, self.st.round_modal) {
             ([Some(r), ..], _) => (r, corner::Corner::Round(r)),
             ([None, Some(c), _], _) => (c, corner::Corner::Chamfer(c)),
@@ -102,16 +108,17 @@ impl Interpreter<'_> {
             ([None, None, None], _) => return,
         };
         if size > 0.0 {
-            self.mark_corner(corner);
+            self.mark_corner(corner, modal);
         } else {
             diags.push(Diagnostic::new(Code::MissingParameter, range, "a corner rounding or chamfer needs a size above zero"));
         }
     }
 
     /// Marks the corner between the move the corner stage holds and the next.
-    fn mark_corner(&mut self, corner: corner::Corner) {
+    /// `modal`: a modal rounding's corner (`RNDM`).
+    fn mark_corner(&mut self, corner: corner::Corner, modal: bool) {
         if let Some(k) = self.corners.get_mut().as_mut() {
-            k.mark(corner, self.origin, self.line);
+            k.mark(corner, self.origin, self.line, modal);
         }
     }
 }

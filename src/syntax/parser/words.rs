@@ -12,6 +12,10 @@ use crate::diag::{Code, Diagnostic};
 use crate::dialect::{Meaning, Role, SkipPosition};
 use crate::text::TextRange;
 
+/// The spindle the analysis follows where a block numbers several (`S1=`, `M1=`): the main
+/// one, as the engine's `SpindleId::Main` is spindle 1.
+const MAIN_SPINDLE: u8 = 1;
+
 impl Lexer<'_, '_> {
     /// The lexer's fast path: `X10.5`, `Y-.25`, a plain address with a literal number. False,
     /// with nothing consumed, when the word is anything else.
@@ -562,21 +566,61 @@ impl Lexer<'_, '_> {
             // numbered words (840D sl programming manual, fundamentals: "Spindle speed S,
             // spindle direction of rotation M3, M4, M5": `S<n>=`, `M<n>=` address spindle n;
             // "several spindles can be programmed in one block"). The analysis follows one
-            // spindle a block, the first it numbers; another spindle's words are kept as intent.
+            // spindle a block: the main one where the block numbers it, wherever it is written
+            // (the manual's master spindle, spindle 1 here: `SETMS(n)` is kept as intent, so
+            // the engine's main spindle stays 1), else the first it numbers; another spindle's
+            // words are kept as intent.
             match self.block.spindle {
-                Some(first) if first != index => {
-                    let shown = &self.text[start..self.i];
-                    let msg = format!(
-                        "`{shown}` beside spindle {first}'s words: this block addresses several spindles by number, each its own words; ncplan follows the first spindle of a block, so `{shown}` is kept as intent"
-                    );
-                    self.diags.push(Diagnostic::new(Code::Unmodelled, range, msg));
+                Some(first) if first != index && (index != MAIN_SPINDLE || first == MAIN_SPINDLE) => {
+                    self.spindle_kept_as_intent(start, range, first);
                     return true;
+                }
+                Some(first) if first != index => {
+                    self.drop_spindle_words(first, index);
+                    self.block.spindle = Some(index);
                 }
                 _ => self.block.spindle = Some(index),
             }
         }
         self.block.words.push(Word { role, letter, value, range, mode: WordMode::Modal, cycle_arg: false });
         true
+    }
+
+    /// The numbered spindle word at `start` (`range`) beside spindle `followed`'s: kept as intent.
+    fn spindle_kept_as_intent(&mut self, start: usize, range: TextRange, followed: u8) {
+        let shown = &self.text[start..self.i];
+        let msg = format!(
+            "`{shown}` beside spindle {followed}'s words: this block addresses several spindles by number, each its own words; ncplan follows the main spindle, else the first of a block, so `{shown}` is kept as intent"
+        );
+        self.diags.push(Diagnostic::new(Code::Unmodelled, range, msg));
+    }
+
+    /// The words of spindle `other` read so far in this block (`S2=500 M2=3` before `S1=`)
+    /// leave it, kept as intent, now that the block numbers spindle `main`, which it follows.
+    fn drop_spindle_words(&mut self, other: u8, main: u8) {
+        let numbered = |t: &str| {
+            let t = t.as_bytes();
+            let digits = t.iter().skip(1).take_while(|c| c.is_ascii_digit()).count();
+            matches!(t.first(), Some(b'S' | b's' | b'M' | b'm'))
+                && std::str::from_utf8(&t[1..1 + digits]).ok().and_then(|d| d.parse::<u8>().ok()) == Some(other)
+                && t.get(1 + digits) == Some(&b'=')
+        };
+        let base = self.base;
+        let text = self.text;
+        let mut kept = Vec::with_capacity(self.block.words.len());
+        for w in std::mem::take(&mut self.block.words) {
+            let local = (w.range.start as usize).checked_sub(base).zip((w.range.end as usize).checked_sub(base));
+            match local.and_then(|(a, b)| text.get(a..b)) {
+                Some(shown) if numbered(shown) => {
+                    let msg = format!(
+                        "`{shown}` beside the main spindle {main}'s words: this block addresses several spindles by number, each its own words; ncplan follows the main spindle, so `{shown}` is kept as intent"
+                    );
+                    self.diags.push(Diagnostic::new(Code::Unmodelled, w.range, msg));
+                }
+                _ => kept.push(w),
+            }
+        }
+        self.block.words = kept;
     }
 
     /// `_X_HOME=0`, `LEN=LEN+1`: a variable assignment, where identifiers name variables. A
