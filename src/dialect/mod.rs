@@ -242,6 +242,10 @@ pub struct Lexical {
     pub header_words: bool,
     /// Expression brackets, such as `[` `]`.
     pub expression: Option<(char, char)>,
+    /// Whether a bracketed expression after a one-letter address needs `=` before it
+    /// (Sinumerik: `J=(R109*(-1))`; `J(R109*(-1))` stops the control), `<expression
+    /// after-address="assign">`; else the expression follows the letter (`X[#1+2]`).
+    pub expression_needs_assign: bool,
     /// Parameter sigil (`#`), and whether `#<name>` names are allowed.
     pub parameter: Option<(char, bool)>,
     /// A second bank of numbered variables with a sigil of its own (LNC's global `@1`-`@6999`

@@ -1601,3 +1601,29 @@ fn a_jump_s_target_is_the_word_after_its_keyword() {
     assert!(rows.iter().any(|r| r.starts_with("flow_changed | condition")), "{rows:#?}");
     assert!(!rows.iter().any(|r| r.contains("jump target")), "{rows:#?}");
 }
+
+#[test]
+fn an_expression_after_an_address_without_equals_is_the_sinumerik_syntax_error() {
+    // 840D Fundamentals p.59: an address whose value is more than one constant takes `=`
+    // (`J=(R109*(-1))`); `J(R109*(-1))` stops the control. Writing the `=` fixes the program.
+    let ok = "N10 G17 G90 G71\nN20 T1 D1\nN30 M3 S1000\nN40 R109=5\nN50 G0 X0 Y0 Z5\nN60 G1 Z-2 F200\nN70 G2 X10 Y0 I=5 J=(R109*(-1))\nN80 G0 Z5\nN90 M30\n";
+    let bad = ok.replace("J=(", "J(");
+    let registry = Registry::shipped();
+    let d = registry.get("siemens").unwrap();
+    let errors = |t: &str| {
+        pipeline::analyze(t.as_bytes(), &d, &Profile::default())
+            .diagnostics
+            .iter()
+            .filter(|x| x.is_error())
+            .map(|x| x.message.clone())
+            .collect::<Vec<_>>()
+    };
+    assert!(errors(ok).is_empty(), "{:#?}", errors(ok));
+    assert!(errors(&bad).iter().any(|m| m.contains("only after `=`")), "{:#?}", errors(&bad));
+    let rows = kind_rows(&bad, ok, "siemens");
+    assert!(rows.iter().any(|r| r.starts_with("program_fixed")), "{rows:#?}");
+    // Brackets without `=` after a one-letter address are an expression on a Fanuc (`X[#1*2]`).
+    let fanuc = "O1000\nG90 G17\n#1=5\nG0 X[#1*2] Y0\nM30\n";
+    let d = registry.get("fanuc").unwrap();
+    assert!(!pipeline::analyze(fanuc.as_bytes(), &d, &Profile::default()).diagnostics.iter().any(|x| x.is_error()));
+}

@@ -112,6 +112,7 @@ impl Cx {
             delimiter_first_line: false,
             header_words: false,
             expression: None,
+            expression_needs_assign: false,
             parameter: None,
             global_parameter: None,
             parameter_banks: Vec::new(),
@@ -359,12 +360,14 @@ impl Cx {
         lex.header_words = self.either(c, "header", "skipped", "words");
     }
 
-    /// `<expression open="[" close="]"/>`: the brackets of an expression.
+    /// `<expression open="[" close="]"/>`: the brackets of an expression; `after-address=
+    /// "assign"` where an address takes one only after `=` (`J=(R109*(-1))`).
     fn expression_brackets(&mut self, c: &Element, lex: &mut Lexical) {
-        self.shape(c, &["open", "close"], &[]);
+        self.shape(c, &["open", "close", "after-address"], &[]);
         if let (Some(o), Some(cl)) = (self.char_attr(c, "open"), self.char_attr(c, "close")) {
             lex.expression = Some((o, cl));
         }
+        lex.expression_needs_assign = self.either(c, "after-address", "direct", "assign");
     }
 
     /// `<parameter sigil="#" named="true"/>`: the parameter sigil, and whether `#<name>` names

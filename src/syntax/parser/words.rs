@@ -243,12 +243,36 @@ impl Lexer<'_, '_> {
             }
             eq
         };
+        let bare = !assigned && self.expression_without_assign();
         let value = if assigned { self.assigned_value(start) } else { self.value(start).map(|v| (v, WordMode::Modal)) };
+        if bare {
+            // Read as the value it would be with `=`, so that what follows still reads; the
+            // control stops at the block.
+            let word = self.text[start..self.i].trim().to_owned();
+            let letter = letter as char;
+            self.error(
+                Code::MalformedExpression,
+                start,
+                self.i.max(start + 1),
+                format!("`{word}`: an address takes an expression only after `=` on this control (`{letter}=(…)`)"),
+            );
+        }
         if let Some((value, mode)) = value {
             // A letter that is always incremental (a lathe's `U`) marks its words so.
             let mode = if mode == WordMode::Modal && self.dialect.letter_incremental(letter) { WordMode::Incremental } else { mode };
             self.block.words.push(Word { role, letter, value, range: self.range(start, self.i), mode, cycle_arg: false });
         }
+    }
+
+    /// Whether a bracketed expression follows the address at the cursor without `=`, where the
+    /// dictionary says an address takes one only after `=` (`<expression after-address=
+    /// "assign">`: Sinumerik `J(R109*(-1))` for `J=(R109*(-1))`).
+    fn expression_without_assign(&self) -> bool {
+        let Some((open, _)) = self.dialect.lexical.expression.filter(|_| self.dialect.lexical.expression_needs_assign) else {
+            return false;
+        };
+        let j = self.b[self.i..].iter().position(|c| !matches!(c, b' ' | b'\t')).map_or(self.b.len(), |p| self.i + p);
+        self.b.get(j) == Some(&(open as u8))
     }
 
     /// A value after `=`: a string, `AC(..)`/`IC(..)`, or an infix expression (`X=R1*2`);
