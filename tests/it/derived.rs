@@ -1081,12 +1081,13 @@ fn okuma_lathe_graphics_commands_tell_the_lathe() {
 }
 
 /// Siemens `ATAN2(y, x)` is the arc tangent of two arguments in degrees; `<<` joins text,
-/// which is not evaluated (a variable first too: `LINE=NAME<<"["<<N<<"]"`).
+/// which is not evaluated (a variable first too: `LINE=NAME<<"["<<N<<"]"`). The variable is
+/// not named `ANG`: that is the 840D's contour-angle address (`ANG=`), read as such.
 #[test]
 fn siemens_atan2_and_text_joins() {
     let (text, errors) = canon(
         "siemens",
-        "DEF REAL ANG\nDEF STRING[40] LINE\nANG=ATAN2(30,30)\nLINE=\"A\"<<ANG\nLINE=LINE<<\"[\"<<ANG<<\"]\"\nG0 X=ANG\nM30\n",
+        "DEF REAL WINK\nDEF STRING[40] LINE\nWINK=ATAN2(30,30)\nLINE=\"A\"<<WINK\nLINE=LINE<<\"[\"<<WINK<<\"]\"\nG0 X=WINK\nM30\n",
     );
     assert!(errors.is_empty(), "{errors:?}");
     assert!(text.contains("STRAIGHT_TRAVERSE(45.0000,"), "{text}");
