@@ -1345,11 +1345,6 @@ struct Thread {
     exit: bool,
 }
 
-/// The bits (as `canon::AXIS_BITS`) of the axes `on` holds for, X to C.
-pub(super) fn axis_bits(on: impl Fn(usize) -> bool) -> u8 {
-    (0..6).filter(|&i| on(i)).fold(0, |m, i| m | 1 << i)
-}
-
 #[cfg(test)]
 mod tests {
     use super::arc_center_from_radius;
@@ -1364,4 +1359,9 @@ mod tests {
         assert!((c1 - 5.0).abs() < 1e-9 && (c2 + 24f64.sqrt()).abs() < 1e-9, "{c1} {c2}");
         assert!(arc_center_from_radius(0.0, 0.0, 10.0, 0.0, 2.0, true, 0.002).is_err());
     }
+}
+
+/// The bits (as `canon::AXIS_BITS`) of the axes `on` holds for, X to C.
+pub(super) fn axis_bits(on: impl Fn(usize) -> bool) -> u8 {
+    (0..6).filter(|&i| on(i)).fold(0, |m, i| m | 1 << i)
 }
