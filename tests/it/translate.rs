@@ -1162,7 +1162,7 @@ fn a_lathe_return_by_u_leaves_x_unstated_on_every_lathe_target() {
     }
     let (out, diags) = translated_and_checked(l3, "fanuc_lathe", "fanuc_lathe");
     assert!(!diags.iter().any(Diagnostic::is_error), "{diags:?}");
-    let planted = out.replacen("G0 Z2.\nX20.", "G0 X0. Z2.\nX20.", 1);
+    let planted = out.replacen("G0 Z2.\nG0 X20.", "G0 X0. Z2.\nG0 X20.", 1);
     assert_ne!(planted, out, "{out}");
     assert!(check_refuses(l3, "fanuc_lathe", &planted, "fanuc_lathe"), "{planted}");
     let planted = out.replacen("G28 U0.\n", "G28 U0.\nG0 X0.\n", 1);
