@@ -344,9 +344,6 @@ pub enum MachineTarget {
     Machine,
 }
 
-/// All six axes' bits of [`CanonOp::AxesStated`] (X Y Z A B C: bits 0 to 5).
-pub const AXIS_BITS: u8 = 0b11_1111;
-
 /// A move in the machine's frame (a marker before its moves).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MachineMove {
@@ -621,13 +618,6 @@ pub enum CanonOp {
     /// Marker: the move(s) that follow go to a position in the machine's frame (a reference
     /// return, a machine-coordinate move), not the work offset's.
     MachineMove(Box<MachineMove>),
-    /// Marker: the next move's block states these axes (bit `k` for X Y Z A B C, as
-    /// [`AXIS_BITS`]) absolutely while the program did not know where they were (at its start,
-    /// after a reference return or a move in machine coordinates). An axis whose position is
-    /// unknown is where the machine left it, whatever number the analysis gives it, until a
-    /// block states it: a writer writes the axes marked and no other unknown one. Not printed
-    /// (rs274 has no such call).
-    AxesStated(u8),
     /// Marker: the tilted working plane in force from here (see [`Frame`]), `None` when
     /// untilted again. The moves that follow stay in the tilted plane's coordinates.
     WorkPlane(Option<Box<Frame>>),
@@ -896,8 +886,6 @@ pub fn write_call(out: &mut String, op: &CanonOp) {
 /// call; the calls with more to them than a name and numbers have writers of their own.
 pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
     match op {
-        // Not a call of rs274's: no line.
-        CanonOp::AxesStated(_) => return,
         CanonOp::UseLengthUnits(u) => out.extend_from_slice(length_units(*u)),
         CanonOp::SelectPlane(p) => out.extend_from_slice(select_plane(*p)),
         CanonOp::SetG5xOffset(i, v) => {

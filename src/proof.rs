@@ -109,10 +109,6 @@ pub struct Move {
     /// Seconds the machine dwells (`G4`, a cycle's dwell at the bottom) after the move
     /// before and before this one.
     pub dwell: f64,
-    /// The axes (bits as `canon::AXIS_BITS`) whose positions the program did not know that
-    /// the move's block states (`CanonOp::AxesStated`): a translation that states another, or
-    /// leaves one out, moves an axis the source does not, or does not move it.
-    pub stated: u8,
     /// The source line, and the block's range.
     pub line: u32,
     /// See [`Move::line`].
@@ -153,8 +149,6 @@ pub struct Trace {
     /// Seconds dwelt since the last move: the next move's [`Move::dwell`], or, at the end,
     /// the dwell after the last move.
     dwell: f64,
-    /// The axes stated since the last move: the next move's [`Move::stated`].
-    stated: u8,
     ended: bool,
     /// The range of the block being fed in.
     origin: TextRange,
@@ -186,7 +180,6 @@ impl Trace {
             axis: [0.0, 0.0, 1.0],
             machine: None,
             dwell: 0.0,
-            stated: 0,
             ended: false,
             origin: TextRange::default(),
         }
@@ -245,7 +238,6 @@ impl Trace {
             tilt: self.tilt,
             axis: self.axis,
             dwell: std::mem::take(&mut self.dwell),
-            stated: std::mem::take(&mut self.stated),
             line,
             origin,
         });
@@ -287,10 +279,8 @@ impl Trace {
                     && self.chain.iter().chain([&pos]).all(|q| norm(cross(u, sub(*q, l.from))) <= tol * norm(u))
             });
         if merged {
-            let stated = std::mem::take(&mut self.stated);
             if let Some(l) = self.moves.last_mut() {
                 l.to = to;
-                l.stated |= stated;
             }
             self.chain.push(pos);
             self.pos = to;
@@ -393,7 +383,6 @@ impl CanonSink for Trace {
                 };
                 self.machine = Some((kind, m.axes, m.moves()));
             }
-            CanonOp::AxesStated(bits) => self.stated |= bits,
             CanonOp::SetFeedRate(f) => self.feed = f * self.scale,
             CanonOp::SetSpindleSpeed(s) => self.speed = *s,
             CanonOp::SetSpindleMode(m) => self.css = *m,
@@ -571,22 +560,6 @@ pub fn difference(ta: &Trace, tb: &Trace, tol: f64) -> Option<Difference> {
                     n.feed,
                     n.speed,
                     css_text(n.css)
-                ),
-            );
-        }
-        if m.stated != n.stated {
-            let names =
-                |b: u8| (0..6).filter(|k| b & (1 << k) != 0).map(|k| ["X", "Y", "Z", "A", "B", "C"][k]).collect::<Vec<_>>().join(" ");
-            let which = |b: u8| if b == 0 { "none".to_owned() } else { names(b) };
-            return differ(
-                m,
-                Some(n),
-                format!(
-                    "the {} to {} states {} of the axes whose positions were not known, the translation {}",
-                    m.kind.label(),
-                    fmt(m.to),
-                    which(m.stated),
-                    which(n.stated)
                 ),
             );
         }

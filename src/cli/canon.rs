@@ -130,7 +130,7 @@ impl<W: Write> Printer<'_, W> {
 
 impl<W: Write> CanonSink for Printer<'_, W> {
     fn emit(&mut self, canon: Canon) {
-        if self.error.is_some() || matches!(canon.op, CanonOp::AxesStated(_)) {
+        if self.error.is_some() {
             return;
         }
         if !self.lines {

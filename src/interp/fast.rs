@@ -275,14 +275,6 @@ impl Interpreter<'_> {
             self.check_technology(def, range, diags);
         }
         self.note_tangent(to);
-        // As `motion`'s `state_axes`: the absolute words state the unknown axes they name.
-        if self.st.unknown != 0 && !incremental {
-            let stated = (axes & 0b111) as u8 & self.st.unknown;
-            if stated != 0 {
-                self.st.unknown &= !stated;
-                self.emit(sink, CanonOp::AxesStated(stated));
-            }
-        }
         self.emit_straight(sink, rapid, to, staged);
         self.st.pos = to;
         true

@@ -590,10 +590,6 @@ struct State {
     /// and G30.1 store new ones).
     home1: [f64; 6],
     home2: [f64; 6],
-    /// The axes whose positions the program does not know (bits as `canon::AXIS_BITS`): all
-    /// at its start, and those a reference return or a machine-coordinate move took, until a
-    /// block states them (`CanonOp::AxesStated`). `pos` holds the analysis' number for them.
-    unknown: u8,
     g92: [f64; 6],
     /// The shift G92.2 suspended, for G92.3.
     g92_saved: [f64; 6],
@@ -750,7 +746,6 @@ impl State {
             modal_macro: None,
             home1: profile.home1,
             home2: profile.home2,
-            unknown: crate::canon::AXIS_BITS,
             g92: [0.0; 6],
             g92_saved: [0.0; 6],
             tool_offset: [0.0; 3],

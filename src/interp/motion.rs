@@ -190,39 +190,13 @@ impl Interpreter<'_> {
 
     /// Marks a straight move the block states in machine coordinates (`G53`, `SUPA`, `M91`)
     /// with the machine coordinates it names, so that a writer keeps it one.
-    /// The axes it names are unknown after it: where they are in the work offset's frame only
-    /// the machine knows. Whether the block is one.
-    fn machine_marker(&mut self, sink: &mut dyn CanonSink) -> bool {
+    fn machine_marker(&mut self, sink: &mut dyn CanonSink) {
         if self.codes.is_empty() || !self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::MachineCoords) {
-            return false;
-        }
-        let axes: [Option<f64>; 6] = std::array::from_fn(|i| self.slot(Role::AXES[i]));
-        if axes.iter().any(Option::is_some) {
-            self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target: MachineTarget::Machine, axes })));
-            self.st.unknown |= axis_bits(|i| axes[i].is_some());
-            return true;
-        }
-        false
-    }
-
-    /// The axes whose positions were unknown that the block states absolutely: marked for a
-    /// writer (`CanonOp::AxesStated`) before its moves, and known from here. A polar radius or
-    /// angle states the plane's two axes. An incremental word leaves its axis unknown (Fanuc,
-    /// Haas, Siemens: an axis a block does not name stays where it is, so a word relative to
-    /// an unknown position gives an unknown one).
-    pub(super) fn state_axes(&mut self, sink: &mut dyn CanonSink) {
-        if self.st.unknown == 0 {
             return;
         }
-        let (a0, a1, _) = self.st.plane.axes();
-        let polar = [Role::PolarRadius, Role::PolarAngle].iter().any(|&r| self.slots[r as usize].is_some());
-        let stated = axis_bits(|i| {
-            let role = Role::AXES[i];
-            (self.slots[role as usize].is_some() && !self.incremental(role)) || (polar && (i == a0 || i == a1))
-        }) & self.st.unknown;
-        if stated != 0 {
-            self.st.unknown &= !stated;
-            self.emit(sink, CanonOp::AxesStated(stated));
+        let axes = std::array::from_fn(|i| self.slot(Role::AXES[i]));
+        if axes.iter().any(Option::is_some) {
+            self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target: MachineTarget::Machine, axes })));
         }
     }
 
@@ -262,8 +236,8 @@ impl Interpreter<'_> {
             diags.push(Diagnostic::new(Code::BadArc, range, msg));
             return;
         }
-        if !(matches!(def.meaning, Meaning::Rapid | Meaning::Linear) && self.machine_marker(sink)) {
-            self.state_axes(sink);
+        if matches!(def.meaning, Meaning::Rapid | Meaning::Linear) {
+            self.machine_marker(sink);
         }
         if self.slots[Role::W as usize].is_some() && (arc || matches!(def.meaning, Meaning::Rapid | Meaning::Linear)) {
             self.quill_word();
@@ -1359,9 +1333,4 @@ mod tests {
         assert!((c1 - 5.0).abs() < 1e-9 && (c2 + 24f64.sqrt()).abs() < 1e-9, "{c1} {c2}");
         assert!(arc_center_from_radius(0.0, 0.0, 10.0, 0.0, 2.0, true, 0.002).is_err());
     }
-}
-
-/// The bits (as `canon::AXIS_BITS`) of the axes `on` holds for, X to C.
-pub(super) fn axis_bits(on: impl Fn(usize) -> bool) -> u8 {
-    (0..6).filter(|&i| on(i)).fold(0, |m, i| m | 1 << i)
 }

@@ -12,7 +12,7 @@
 use super::{Post, Vals};
 use crate::canon::{Canon, MachineMove, MachineTarget};
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::output::MACHINE_AXES;
+use crate::dialect::output::{MACHINE_AXES, Value};
 
 /// A machine-frame move under way: its marker, the event that writes it, how many of its
 /// moves are still to come, and whether the target can write it.
@@ -84,13 +84,13 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             }
             self.event(pending.event, &mut vals);
         }
-        // The axes it moved are where only the machine knows: a move writes them where the
-        // source states them, never at the number the analysis gives them.
-        self.moved(q);
+        // The axes it moved are where only the machine knows: the next move states them.
+        const AXES: [Value; 6] = [Value::X, Value::Y, Value::Z, Value::A, Value::B, Value::C];
         for (k, v) in pending.marker.axes.iter().enumerate() {
-            if v.is_some() {
-                self.hold_unknown(k, if k < 3 { q[k] } else { p[k] });
+            if let (Some(_), Some(slot)) = (v, super::modal_slot(AXES[k])) {
+                self.set_written(slot, None);
             }
         }
+        self.moved(q);
     }
 }

@@ -601,13 +601,6 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// Where the steady lane puts a block's text together before it appends it at once
     /// ([`Post::lane_block`]).
     lane_text: [u8; lane::LANE_TEXT],
-    /// The axes (bits as `canon::AXIS_BITS`) whose positions the source does not know (at its
-    /// start, after a reference return or a machine-coordinate move) until it states them
-    /// (`CanonOp::AxesStated`), and the numbers the analysis holds for them (target units,
-    /// work offset frame): a move writes none of them unless the source states it.
-    unknown: u8,
-    /// See [`Post::unknown`].
-    unknown_at: [f64; 6],
 }
 
 /// A run of blocks the source runs again, kept as one pass while the passes write the same.
@@ -1182,8 +1175,6 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             lane_ready: 0,
             max_line: if out.max_line > 0 { out.max_line } else { usize::MAX },
             lane_text: [0; lane::LANE_TEXT],
-            unknown: 0,
-            unknown_at: [0.0; 6],
         }
     }
 
@@ -1242,11 +1233,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
         self.started = true;
         self.block = self.out.number_start;
-        // Where the tool starts, the program does not know (the interpreter puts it at the
-        // program zero): a move writes the axes the source states (`CanonOp::AxesStated`),
-        // never one it leaves out, whatever number the analysis gives it.
-        for k in 0..6 {
-            self.hold_unknown(k, 0.0);
+        // The tool starts at the program zero, as the interpreter has it: a first move
+        // leaves out the axes it does not change, as the source did.
+        for (k, f) in ["X", "Y", "Z", "", "", "A", "B", "C"].iter().enumerate() {
+            let w = self.key_of(f, 0.0);
+            self.set_written(k, w);
         }
         let units = match self.opts.units {
             Units::Mm => "units-mm",
@@ -1766,57 +1757,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         self.line_offsets.clear();
     }
 
-    /// Axis `k` (X to C) is where only the machine knows; `v` is the number the analysis
-    /// gives it (target units, work offset frame): held as written, so that a move leaves it
-    /// out until the source states it.
-    fn hold_unknown(&mut self, k: usize, v: f64) {
-        const NAMES: [&str; 6] = ["X", "Y", "Z", "A", "B", "C"];
-        const SLOTS: [usize; 6] = [0, 1, 2, 5, 6, 7];
-        let x = if k == 0 && self.x_diam { 2.0 * v } else { v };
-        let w = self.key_of(NAMES[k], x);
-        self.set_written(SLOTS[k], w);
-        self.unknown |= 1 << k;
-        self.unknown_at[k] = v;
-    }
-
-    /// The source states the axes `bits` (as `canon::AXIS_BITS`) whose positions it did not
-    /// know: the next move writes them, whatever was written before.
-    fn axes_stated(&mut self, bits: u8) {
-        self.start();
-        const SLOTS: [usize; 6] = [0, 1, 2, 5, 6, 7];
-        for (k, slot) in SLOTS.iter().enumerate() {
-            if bits & (1 << k) != 0 {
-                self.set_written(*slot, None);
-            }
-        }
-        self.unknown &= !bits;
-    }
-
-    /// A move changes an axis whose position the source does not know without stating it (an
-    /// incremental word): the target's absolute position would be a made-up one.
-    #[inline(never)]
-    fn unknown_moved(&mut self, p: [f64; 3]) {
-        for k in 0..3 {
-            if self.unknown & (1 << k) != 0 && (p[k] - self.unknown_at[k]).abs() > EPS {
-                let axis = ["X", "Y", "Z"][k];
-                if self.noted.insert("unknown-position".into()) {
-                    self.diags.push(Diagnostic::new(
-                        Code::PostUnwritable,
-                        self.origin,
-                        format!("{axis} moves from a position the source does not know (its start, a reference return or a move in machine coordinates) by an incremental word: written absolute, the target would go to a made-up position"),
-                    ));
-                }
-                self.unknown_at[k] = p[k];
-            }
-        }
-    }
-
     /// The tool moved to `p`: kept, and checked against the machine's travel.
     #[inline]
     fn moved(&mut self, p: [f64; 3]) {
-        if self.unknown & 7 != 0 {
-            self.unknown_moved(p);
-        }
         self.pos = p;
         if self.opts.limits.travel.is_some() {
             self.check_travel(p);
@@ -2092,7 +2035,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::SetFeedRate(_) | CanonOp::SetFeedMode(_) => self.feed_op(canon),
             CanonOp::SetG5xOffset(..) | CanonOp::SetG92Offset(_) | CanonOp::Setting(Setting::WorkOffset(_)) => self.offset_op(canon),
             CanonOp::MachineMove(m) => self.machine_op(canon, m),
-            CanonOp::AxesStated(bits) => self.axes_stated(*bits),
             CanonOp::SelectTool(_)
             | CanonOp::ChangeTool(_)
             | CanonOp::UseToolLengthOffset(_)

@@ -98,10 +98,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         if self.x_diam != on {
             self.x_diam = on;
             self.set_written(0, None);
-            // Where X is not known, it stays unwritten until the source states it.
-            if self.unknown & 1 != 0 {
-                self.hold_unknown(0, self.unknown_at[0]);
-            }
         }
     }
 

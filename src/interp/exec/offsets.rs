@@ -302,12 +302,7 @@ impl Interpreter<'_> {
                 mid[i] = if self.incremental(role) { self.st.pos[i] + v } else { v };
             }
         }
-        let axes: [Option<f64>; 6] = std::array::from_fn(|i| (!any || self.slots[Role::AXES[i] as usize].is_some()).then_some(0.0));
-        // The intermediate point's absolute words state their axes; the axes it returns are
-        // unknown after it (where the reference position lies in the work offset's frame, only
-        // the machine knows).
-        self.state_axes(sink);
-        self.st.unknown |= crate::interp::motion::axis_bits(|i| axes[i].is_some());
+        let axes = std::array::from_fn(|i| (!any || self.slots[Role::AXES[i] as usize].is_some()).then_some(0.0));
         let target = MachineTarget::Reference(if first { 1 } else { 2 });
         self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target, axes })));
         if let Some(w) = quill {
