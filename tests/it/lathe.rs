@@ -863,6 +863,21 @@ fn lathe_s7_held_out_programs() {
 /// (no unused program of another lathe control was found in the index). Only the sidecars are
 /// committed; written before ncplan ran on them. Not yet measured.
 ///
+/// `tests/programs/lathe_s18_heldout/` is sweep 18's held-back set (branch gather18a: 6 programs
+/// of 3 repositories, 60 items), files no test used. Of leohiei/projetocnc-2- and
+/// leohiei/projetocnc-3- (repositories no test used: a Brazilian course's programs for a Fanuc
+/// 0i-T run in SwanSoft, G-code system B with `G92 S` the clamp): a bore roughed by an inside
+/// `G71` and finished by `G70` short of its cone; a part turned from two sides in `G54` and `G55`,
+/// faced, `G71`/`G70` with R2 rounds, a groove by three `G75` plunges, the second side's spigot
+/// (its inside `G71`, started outside the spigot, not listed). Of
+/// Planet-Source-Code/alkiman-lathe-simulator__1-61452 (Fanuc 18T, metric): explicit facing and
+/// turning passes at one feed, drilling, a finish profile and a bore finished in one pass; `G94`
+/// facing with a two-block `G71` written `R` before `U` and a finish written out from the back
+/// over a dome; `G71` with seven `G92` thread passes M36x1.5; and `G71`, a two-block `G76`
+/// M20x1.5 at 55° and a cut-off, two of them finishing through an undercut subprogram not in the
+/// file. Fanuc-type controls only (no unused program of another lathe control was found in the
+/// index). Only the sidecars are committed; written before ncplan ran on them. Not yet measured.
+///
 /// `tests/programs/lathe_build16/` is branch lathe22's own build set (see `lathe_build16_programs`).
 #[test]
 #[ignore]
@@ -889,6 +904,7 @@ fn print_real_misses() {
         "lathe_s15_heldout",
         "lathe_s16_heldout",
         "lathe_s17_heldout",
+        "lathe_s18_heldout",
         "lathe_build16",
     ] {
         if !Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs").join(folder).exists() {
