@@ -603,6 +603,54 @@ mod tests {
         assert!(read > 900, "{read}");
     }
 
+    /// Any bytes at all after and among the digits (points, signs, bytes below `0` and above
+    /// `9`, bytes of 0x80 and up): the word gives what the bytes give, or declines.
+    #[test]
+    fn short_numbers_among_any_bytes_read_as_byte_by_byte() {
+        let slow = |b: &[u8], i: usize| {
+            let (mut end, mut m) = (i, 0u64);
+            digits(b, &mut end, &mut m);
+            let n_int = end - i;
+            let point = b.get(end) == Some(&b'.');
+            if point {
+                end += 1;
+                digits(b, &mut end, &mut m);
+            }
+            (m, n_int, end - i - n_int - usize::from(point), point, end)
+        };
+        let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            rng
+        };
+        let mut read = 0;
+        for _ in 0..300_000 {
+            // Mostly digits and points, with any byte among them.
+            let b: Vec<u8> = (0..12)
+                .map(|_| match next() % 8 {
+                    0..=4 => b'0' + (next() % 10) as u8,
+                    5 => b'.',
+                    _ => next() as u8,
+                })
+                .collect();
+            for from in 0..4 {
+                match short_number(&b, from) {
+                    Some(n) => {
+                        assert_eq!(n, slow(&b, from), "{b:?} from {from}");
+                        read += 1;
+                    }
+                    None => {
+                        let (_, n_int, n_frac, _, end) = slow(&b, from);
+                        assert!(end - from >= 8 || n_int + n_frac == 0, "{b:?} from {from}");
+                    }
+                }
+            }
+        }
+        assert!(read > 100_000, "{read}");
+    }
+
     proptest::proptest! {
         /// The fast path gives the very double `str::parse` gives, or declines.
         #[test]

@@ -220,9 +220,10 @@ pub(super) fn digits(b: &[u8], j: &mut usize, m: &mut u64) {
     (*m, *j) = (v, k);
 }
 
-/// The top bit of every byte of `x` (a word of bytes less `0`) that is no digit: 10 and up
-/// with 0x76 added, or wrapped round below zero. Only the lowest such byte is exact: a borrow
-/// or carry goes to the bytes after it.
+/// The top bit of every byte of `x` (a word of bytes, each with `0` taken out by exclusive or:
+/// a digit 0 to 9, any other byte 10 or more) that is no digit: 10 and up with 0x76 added, or
+/// 0x80 and up already. Only a byte of 0x8A and up carries into the next, and it is no digit
+/// itself: every byte up to the second that is no digit (the first a point, 0x1E) is exact.
 #[inline(always)]
 fn not_digits(x: u64) -> u64 {
     (x.wrapping_add(0x7676_7676_7676_7676) | x) & 0x8080_8080_8080_8080
@@ -246,8 +247,11 @@ fn eight_digits(d: u64) -> u64 {
 pub(super) fn short_number(b: &[u8], i: usize) -> Option<(u64, usize, usize, bool, usize)> {
     const ZEROS: u64 = 0x3030_3030_3030_3030;
     let w = u64::from_le_bytes(*b.get(i..)?.first_chunk::<8>()?);
-    let x = w.wrapping_sub(ZEROS);
-    let at = (not_digits(x).trailing_zeros() / 8) as usize;
+    // `0` taken out of each byte by exclusive or: no borrow between bytes, as a subtraction
+    // has below any byte under `0`, so the point's flag and the next one are both exact.
+    let x = w ^ ZEROS;
+    let stops = not_digits(x);
+    let at = (stops.trailing_zeros() / 8) as usize;
     if at == 8 {
         return None;
     }
@@ -255,14 +259,13 @@ pub(super) fn short_number(b: &[u8], i: usize) -> Option<(u64, usize, usize, boo
         // Digits only: they sit at the top of the word, zeros (leading zeros) below.
         return (at > 0).then(|| (eight_digits(x << (8 * (8 - at))), at, 0, false, i + at));
     }
-    // The point as a `0` (no carry: `.` is two below it), so the digits after it read on;
-    // then the bytes above it moved down one, over it.
-    let x = (w + (2 << (8 * at))).wrapping_sub(ZEROS);
-    let end = (not_digits(x).trailing_zeros() / 8) as usize;
+    // The digits after the point end at the next byte that is no digit.
+    let end = ((stops & (stops - 1)).trailing_zeros() / 8) as usize;
     let n = end - 1;
     if end == 8 || n == 0 {
         return None;
     }
+    // The bytes above the point moved down one, over it.
     let below = (1u64 << (8 * at)) - 1;
     let d = (x & below) | ((x >> 8) & !below);
     Some((eight_digits(d << (8 * (8 - n))), at, n - at, true, i + end))
