@@ -8,7 +8,11 @@
 //! the work offset's frame (a G92-style shift is added to the positions). Canned cycles
 //! whose kind the target maps stay cycles; the others are written as their moves, with a
 //! note. Everything the target has no rule for is said in a diagnostic, never silently
-//! dropped.
+//! dropped. Safe output: the canon says which axes the program knows (`CanonOp::Known`:
+//! none at the start, a machine-frame move's axes none after it); an axis it does not know
+//! is never written (not at the 0 the analysis counts from), one that becomes known is
+//! written at its move whatever the word written last, and a move of an unknown axis (an
+//! incremental move from an unknown start) refuses the translation (`post::unknown-start`).
 //!
 //! The ops are written by kind: [`Post::op`] hands each to the writer of its group, in a
 //! file of its own: `motion.rs` the moves, `cycle.rs` canned cycles, `tool.rs` the tool
