@@ -618,6 +618,15 @@ pub enum CanonOp {
     /// Marker: the move(s) that follow go to a position in the machine's frame (a reference
     /// return, a machine-coordinate move), not the work offset's.
     MachineMove(Box<MachineMove>),
+    /// Marker: the axes whose position the program knows in the work offset's frame (bit `k`
+    /// for axis `k` of X Y Z A B C), from the next move on, where that changes. A stream starts
+    /// with none known: the program starts wherever the machine was. An axis becomes known
+    /// where a block states it absolutely; it is unknown again after a [`CanonOp::MachineMove`]
+    /// moved it (the marker's own moves, not this one, say so: a reader takes its axes as
+    /// unknown after its last move), and after a code whose motion the reading does not know.
+    /// An incremental move of an unknown axis leaves it unknown: its positions in the stream
+    /// are counted from an assumed 0, which a writer must never state. Not printed.
+    Known(u8),
     /// Marker: the tilted working plane in force from here (see [`Frame`]), `None` when
     /// untilted again. The moves that follow stay in the tilted plane's coordinates.
     WorkPlane(Option<Box<Frame>>),
@@ -682,6 +691,9 @@ pub enum FeedMode {
     /// Units per spindle revolution (G95).
     PerRevolution,
 }
+
+/// Every axis known ([`CanonOp::Known`]): X Y Z A B C.
+pub const ALL_KNOWN: u8 = 0b11_1111;
 
 /// A canonical op with its provenance.
 #[derive(Clone, Debug, PartialEq)]
@@ -958,6 +970,8 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::StraightProbe(p) => straight(out, b"STRAIGHT_PROBE(", p, push_f4),
         CanonOp::NurbsFeed { points, .. } => put(out, format_args!("NURBS_FEED({points}, ...)")),
         CanonOp::WaitOrientComplete(t) => put(out, format_args!("SPINDLE.0.WAIT_ORIENT_COMPLETE({})", F4(*t))),
+        // A writer's and a check's marker, not a call: no line.
+        CanonOp::Known(_) => return,
     }
     out.push(b'\n');
 }

@@ -288,6 +288,11 @@ codes! {
     /// The program has a motion ncplan does not know (`interp::motion-unknown`): a translation
     /// would drop it or move elsewhere, so none is written.
     PostMotionUnknown = ("post::motion-unknown", Error),
+    /// An axis moves incrementally from a position the program does not know (`G91` or
+    /// `U`/`W`/`IX` before any absolute word for it, or after a reference return): the target
+    /// cannot state that move incrementally, and an absolute position counted from an assumed
+    /// 0 would send the tool elsewhere, so the translation is refused.
+    PostUnknownStart = ("post::unknown-start", Error),
     /// A canned cycle the target cannot state as a cycle: written as the moves it makes.
     PostCycleAsMoves = ("post::cycle-as-moves", Note),
     /// Macros, loops and subprograms are written as the path that runs, unrolled.

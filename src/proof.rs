@@ -109,6 +109,9 @@ pub struct Move {
     /// Seconds the machine dwells (`G4`, a cycle's dwell at the bottom) after the move
     /// before and before this one.
     pub dwell: f64,
+    /// The axes whose position the program knows at the move (bit `k`: X Y Z A B C,
+    /// [`CanonOp::Known`]); the others' numbers count from an assumed 0 on both sides.
+    pub known: u8,
     /// The source line, and the block's range.
     pub line: u32,
     /// See [`Move::line`].
@@ -146,6 +149,9 @@ pub struct Trace {
     axis: [f64; 3],
     /// A move in the machine's frame under way: its kind, axes and how many moves it has left.
     machine: Option<(Kind, [Option<f64>; 6], usize)>,
+    /// The axes whose position the program knows ([`CanonOp::Known`]; none at the start, and
+    /// a machine-frame move's axes none after it).
+    known: u8,
     /// Seconds dwelt since the last move: the next move's [`Move::dwell`], or, at the end,
     /// the dwell after the last move.
     dwell: f64,
@@ -179,6 +185,7 @@ impl Trace {
             tilt: None,
             axis: [0.0, 0.0, 1.0],
             machine: None,
+            known: 0,
             dwell: 0.0,
             ended: false,
             origin: TextRange::default(),
@@ -238,6 +245,7 @@ impl Trace {
             tilt: self.tilt,
             axis: self.axis,
             dwell: std::mem::take(&mut self.dwell),
+            known: self.known,
             line,
             origin,
         });
@@ -253,6 +261,8 @@ impl Trace {
             } else {
                 // The machine's frame: which position, not the numbers the analysis gave it.
                 let at = std::array::from_fn(|k| axes[k].map_or(f64::NAN, |v| if kind == Kind::Machine { v * self.scale } else { 0.0 }));
+                // Where only the machine knows: unknown in the work offset's frame after it.
+                self.known &= !(0..6).filter(|&k| axes[k].is_some()).fold(0u8, |m, k| m | 1 << k);
                 self.push(kind, at, line);
                 self.chain.clear();
                 self.pos = to;
@@ -272,6 +282,7 @@ impl Trace {
             && self.moves.last().is_some_and(|l| {
                 let (u, v) = (sub(to, l.from), sub(to, pos));
                 l.kind == Kind::Rapid
+                    && l.known == self.known
                     && l.abc == abc
                     && l.to == pos
                     && l.frame == self.wcs.0
@@ -370,6 +381,7 @@ impl CanonSink for Trace {
             }
             CanonOp::SelectPlane(p) => self.plane = *p,
             CanonOp::ToolAxis(v) => self.axis = *v,
+            CanonOp::Known(m) => self.known = *m,
             CanonOp::SetG92Offset(o) => {
                 self.shifts[0] = [o[0] * self.scale, o[1] * self.scale, o[2] * self.scale];
                 self.refresh_g92();
@@ -574,13 +586,15 @@ pub fn difference(ta: &Trace, tb: &Trace, tol: f64) -> Option<Difference> {
             if n.kind != m.kind || !near(m.to, n.to, tol) || !near(m.abc, n.abc, tol) {
                 return differ(m, Some(n), format!("{} to {} became {} to {}", m.kind.label(), fmt(m.to), n.kind.label(), fmt(n.to)));
             }
-            j += 1;
-            continue;
+        } else if let Err(what) = arc_pieces(m, &b[j..], tol).map(|k| j += k - 1) {
+            return differ(m, b.get(j), what);
         }
-        match arc_pieces(m, &b[j..], tol) {
-            Ok(k) => j += k,
-            Err(what) => return differ(m, b.get(j), what),
+        // Safe output: a translation states no axis the program leaves where the machine
+        // happens to be, and leaves none there that the program states.
+        if m.known != n.known {
+            return differ(m, Some(n), format!("{} to {}: {}", m.kind.label(), fmt(m.to), known_difference(m.known, n.known)));
         }
+        j += 1;
     }
     if let Some(n) = b.get(j) {
         return Some(Difference {
@@ -596,6 +610,23 @@ pub fn difference(ta: &Trace, tb: &Trace, tol: f64) -> Option<Difference> {
         other_line: b.last().map(|n| n.line),
         what: format!("dwells {} after the last move, the translation {}", secs(ta.dwell), secs(tb.dwell)),
     })
+}
+
+/// How the axes the translation knows (`b`) differ from those the program knows (`a`).
+fn known_difference(a: u8, b: u8) -> String {
+    const NAMES: [&str; 6] = ["X", "Y", "Z", "A", "B", "C"];
+    let names = |m: u8| (0..6).filter(|&k| m & 1 << k != 0).map(|k| NAMES[k]).collect::<Vec<_>>().join(" ");
+    let mut parts = Vec::new();
+    if b & !a != 0 {
+        parts.push(format!(
+            "the translation states {} where the program does not know the position (it would send the tool to a position counted from an assumed 0)",
+            names(b & !a)
+        ));
+    }
+    if a & !b != 0 {
+        parts.push(format!("the program states {}, which the translation leaves where the machine happens to be", names(a & !b)));
+    }
+    parts.join("; ")
 }
 
 /// Two dwells alike as a control times them: within a millisecond (the finest unit a

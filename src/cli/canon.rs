@@ -130,7 +130,8 @@ impl<W: Write> Printer<'_, W> {
 
 impl<W: Write> CanonSink for Printer<'_, W> {
     fn emit(&mut self, canon: Canon) {
-        if self.error.is_some() {
+        // A writer's marker prints no call.
+        if self.error.is_some() || matches!(canon.op, CanonOp::Known(_)) {
             return;
         }
         if !self.lines {

@@ -41,6 +41,9 @@ impl Interpreter<'_> {
     /// cycle blocks after it, then its holes, as many as L (or K) says, at the block's point.
     pub(super) fn cycle(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let Some(kind) = self.hole_kind(def, range, diags) else { return };
+        // The hole's position the block states is known before the cycle's marker: a writer
+        // states it in the cycle.
+        self.mark_known(sink);
         if let Some(axis) = def.hole_axis {
             return self.live_cycle(def, kind, axis as usize, block, sink, diags);
         }

@@ -273,6 +273,8 @@ impl Interpreter<'_> {
         let cycle = &self.dialect.cycles[ci];
         let Some(points) = pattern_at(&cycle.name, cycle.meaning, args, range, diags) else { return };
         let (a0, a1, _) = self.st.plane.axes();
+        // The pattern's positions are absolute: known from the first one on.
+        self.stated.set(self.stated.get() | 1 << a0 | 1 << a1);
         for (x, y) in points {
             let mut p = self.st.pos;
             (p[a0], p[a1]) = (x, y);
@@ -314,6 +316,12 @@ impl Interpreter<'_> {
         // would be a repeat count).
         let (saved, filled) = (self.slots, self.filled);
         let incremental = self.st.distance == DistanceMode::Incremental;
+        // Positions about a centre the block states absolutely are known; about the current
+        // position, as that position is.
+        let stated = [(Role::PatternX, a0), (Role::PatternY, a1)]
+            .iter()
+            .filter(|(role, _)| !incremental && def.args.iter().any(|&(from, to)| to == *role && self.slot(from).is_some()))
+            .fold(0u8, |m, &(_, axis)| m | 1 << axis);
         for (x, y) in points {
             self.slots = [None; Role::COUNT];
             for (axis, v) in [(a0, x), (a1, y)] {
@@ -321,6 +329,7 @@ impl Interpreter<'_> {
                 self.slots[Role::AXES[axis] as usize] = Some(Slot { value, range, mode: WordMode::Modal });
             }
             let cycle_def = self.code(cycle);
+            self.stated.set(stated);
             self.cycle(cycle_def, range, block, sink, diags);
         }
         self.slots = saved;
@@ -344,11 +353,17 @@ impl Interpreter<'_> {
             p[n] = top;
             self.emit(sink, CanonOp::StraightTraverse(p));
         }
+        let mut stated = 0u8;
         for axis in [a0, a1] {
             if let Some(v) = target(self, axis) {
                 p[axis] = v;
+                if !self.incremental(Role::AXES[axis]) {
+                    stated |= 1 << axis;
+                }
             }
         }
+        // Known from the move in the plane on (not the rise before it).
+        self.stated.set(stated);
         if p != self.st.pos {
             self.emit(sink, CanonOp::StraightTraverse(p));
             self.st.pos = p;

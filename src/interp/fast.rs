@@ -275,6 +275,10 @@ impl Interpreter<'_> {
             self.check_technology(def, range, diags);
         }
         self.note_tangent(to);
+        // Absolute words make their axes known (`CanonOp::Known`); incremental ones do not.
+        if !incremental {
+            self.stated.set((axes & 0x3f) as u8);
+        }
         self.emit_straight(sink, rapid, to, staged);
         self.st.pos = to;
         true

@@ -778,6 +778,8 @@ pub(crate) struct Cycle {
     /// The start point: the block's X and Z, or the current point's.
     pub(super) x: f64,
     pub(super) z: f64,
+    /// The axes the block states the start point in absolutely (`CanonOp::Known`).
+    stated: u8,
     d: f64,
     e: f64,
     i: f64,
@@ -848,6 +850,7 @@ impl Interpreter<'_> {
             pockets: def.index.min(2),
             x: if incremental { self.st.pos[0] + v(self, Role::X, 0.0) } else { v(self, Role::X, self.st.pos[0]) },
             z: if incremental { self.st.pos[2] + v(self, Role::Z, 0.0) } else { v(self, Role::Z, self.st.pos[2]) },
+            stated: if incremental { 0 } else { u8::from(self.slot(Role::X).is_some()) | u8::from(self.slot(Role::Z).is_some()) << 2 },
             d: v(self, Role::D, 0.0),
             e: v(self, Role::E, 0.0),
             i: v(self, Role::I, 1.0),
@@ -878,6 +881,7 @@ impl Interpreter<'_> {
         // The cycle first goes to its start point.
         let mut p = self.st.pos;
         (p[0], p[2]) = (cycle.x, cycle.z);
+        self.stated.set(cycle.stated);
         self.emit(sink, CanonOp::StraightTraverse(p));
         self.st.pos = p;
         let mut segs = Vec::new();

@@ -996,6 +996,15 @@ pub struct Interpreter<'a> {
     /// control that re-reads its position after a tool change takes as the program position
     /// (`position-after-tool-change="last-move"`).
     sent: std::cell::Cell<[f64; 6]>,
+    /// The axes whose position the program knows in the work offset's frame (bit `k` for
+    /// axis `k`: X Y Z A B C; none at the start), the mask last sent as a
+    /// [`CanonOp::Known`] marker, the axes the block being executed states absolutely (known
+    /// from its first move on), and a machine-frame move under way (its axes, its moves
+    /// left): its axes are unknown after its last move.
+    known: std::cell::Cell<u8>,
+    known_sent: std::cell::Cell<u8>,
+    stated: std::cell::Cell<u8>,
+    machine_known: std::cell::Cell<(u8, u8)>,
     /// Per axis, whether its position comes from a length word without a decimal point that
     /// least-increment input shrank (`X4` read as 0.004 mm) and that was said; as the block
     /// began, and after its words. An arc that fails from it is that finding's consequence.
@@ -1123,6 +1132,10 @@ impl<'a> Interpreter<'a> {
             corners: std::cell::RefCell::new(corner_stage(dialect)),
             comp_problem: std::cell::Cell::new(None),
             sent: std::cell::Cell::new([0.0; 6]),
+            known: std::cell::Cell::new(0),
+            known_sent: std::cell::Cell::new(0),
+            stated: std::cell::Cell::new(0),
+            machine_known: std::cell::Cell::new((0, 0)),
             misread: [false; 6],
             misread_before: [false; 6],
             block_misread: false,
@@ -1318,7 +1331,78 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// Before a move: the axes the block states absolutely are known from it on; where that
+    /// changes what the stream was last told, a [`CanonOp::Known`] marker goes first.
+    #[inline(always)]
+    fn mark_known(&self, sink: &mut dyn CanonSink) {
+        let k = self.known.get() | self.stated.get();
+        self.known.set(k);
+        if k != self.known_sent.get() {
+            self.known_sent.set(k);
+            self.emit(sink, CanonOp::Known(k));
+        }
+    }
+
+    /// After a move: the last move of a machine-frame move leaves its axes unknown (a
+    /// reader of the stream takes them so from the [`CanonOp::MachineMove`] marker itself).
+    #[inline(always)]
+    fn machine_moved(&self) {
+        let (axes, left) = self.machine_known.get();
+        if left > 0 {
+            self.machine_known.set((axes, left - 1));
+            if left == 1 {
+                self.known.set(self.known.get() & !axes);
+                self.known_sent.set(self.known_sent.get() & !axes);
+                self.stated.set(self.stated.get() & !axes);
+            }
+        }
+    }
+
+    /// What the position bookkeeping holds ([`CanonOp::Known`]), to be put back with
+    /// [`Interpreter::restore_known`] after blocks run into a sink of their own (a contour
+    /// read for its shape): their markers never reach the stream.
+    pub(super) fn known_state(&self) -> (u8, u8, u8, (u8, u8)) {
+        (self.known.get(), self.known_sent.get(), self.stated.get(), self.machine_known.get())
+    }
+
+    /// Puts back what [`Interpreter::known_state`] gave.
+    pub(super) fn restore_known(&self, (known, sent, stated, machine): (u8, u8, u8, (u8, u8))) {
+        self.known.set(known);
+        self.known_sent.set(sent);
+        self.stated.set(stated);
+        self.machine_known.set(machine);
+    }
+
+    /// The position is unknown in every axis from here (a code moved the machine in a way
+    /// the reading does not know).
+    pub(super) fn position_lost(&self) {
+        self.known.set(0);
+        self.stated.set(0);
+    }
+
     fn emit(&self, sink: &mut dyn CanonSink, op: CanonOp) {
+        let moves = matches!(
+            op,
+            CanonOp::StraightTraverse(_)
+                | CanonOp::StraightFeed(_)
+                | CanonOp::ArcFeed { .. }
+                | CanonOp::NurbsFeed { .. }
+                | CanonOp::RigidTap(_)
+                | CanonOp::StraightProbe(_)
+        );
+        if moves {
+            self.mark_known(sink);
+        } else if let CanonOp::MachineMove(m) = &op {
+            let axes = (0..6).filter(|&k| m.axes[k].is_some()).fold(0u8, |a, k| a | 1 << k);
+            self.machine_known.set((axes, m.moves() as u8));
+        }
+        self.emit_op(sink, op);
+        if moves {
+            self.machine_moved();
+        }
+    }
+
+    fn emit_op(&self, sink: &mut dyn CanonSink, op: CanonOp) {
         let (origin, line) = self.origin_override.unwrap_or((self.origin, self.line));
         match &op {
             CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) | CanonOp::NurbsFeed { end: p, .. } => self.sent.set(*p),
@@ -1368,6 +1452,9 @@ impl<'a> Interpreter<'a> {
     #[inline(always)]
     fn emit_straight(&self, sink: &mut dyn CanonSink, rapid: bool, to: [f64; 6], staged: bool) {
         let op = |to| if rapid { CanonOp::StraightTraverse(to) } else { CanonOp::StraightFeed(to) };
+        if self.known.get() | self.stated.get() != self.known_sent.get() {
+            self.mark_known(sink);
+        }
         if staged {
             if self.corners_pass(sink, rapid, to) {
                 return;
@@ -1790,6 +1877,7 @@ impl<'a> Interpreter<'a> {
     fn execute_block(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.origin = block.range;
         self.line = block.line;
+        self.stated.set(0);
         if self.st.ended {
             if !block.is_empty() && !block.delimiter && !self.after_end_noted {
                 self.after_end_noted = true;

@@ -200,6 +200,52 @@ impl Interpreter<'_> {
         }
     }
 
+    /// The axes the block's words state absolutely (bit `k` for axis `k`), which its move
+    /// makes known ([`crate::canon::CanonOp::Known`]): a straight move's, an arc's, an approach's
+    /// or a thread's end; a hole cycle's position in the plane (its hole axis returns to a
+    /// level counted from where it began). Not words in machine coordinates, not the end of a
+    /// single-pass lathe cycle or a tap (both go back to where they began), not a probe's
+    /// (it stops where it touches).
+    fn stated_by(&self, meaning: Meaning, arc: bool) -> u8 {
+        let absolute = |role: Role| self.slots[role as usize].is_some() && !self.taken_by_code(role) && !self.incremental(role);
+        let mut m = 0u8;
+        for (i, &role) in Role::AXES.iter().enumerate() {
+            if absolute(role) {
+                m |= 1 << i;
+            }
+        }
+        let (a0, a1, _) = self.st.plane.axes();
+        // Polar words: absolute distance and angle about the pole state the plane's axes.
+        if absolute(Role::PolarRadius) && absolute(Role::PolarAngle) {
+            m |= 1 << a0 | 1 << a1;
+        }
+        let machine = !self.codes.is_empty() && self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::MachineCoords);
+        match meaning {
+            _ if machine => 0,
+            Meaning::Rapid | Meaning::Linear | Meaning::SpindleSync => m,
+            _ if arc => m,
+            // Its first move goes to a point in the plane worked out from the stated one, at
+            // the height the tool is at.
+            Meaning::ApproachTangent
+            | Meaning::ApproachNormal
+            | Meaning::ApproachArc
+            | Meaning::DepartTangent
+            | Meaning::DepartNormal
+            | Meaning::DepartArc => m & (1 << a0 | 1 << a1),
+            Meaning::RigidTap
+            | Meaning::CycleThread
+            | Meaning::CycleTurn
+            | Meaning::CycleFace
+            | Meaning::CycleThreadPass
+            | Meaning::Probe
+            | Meaning::ProbeQuiet
+            | Meaning::SplineQuadratic
+            | Meaning::Nurbs => 0,
+            // A hole cycle: its position in the plane.
+            _ => m & (1 << a0 | 1 << a1),
+        }
+    }
+
     /// Whether the axis word for `role` is incremental (per word, or by G91).
     pub(super) fn incremental(&self, role: Role) -> bool {
         match self.slots[role as usize].map(|s| s.mode) {
@@ -239,6 +285,7 @@ impl Interpreter<'_> {
         if matches!(def.meaning, Meaning::Rapid | Meaning::Linear) {
             self.machine_marker(sink);
         }
+        self.stated.set(self.stated_by(def.meaning, arc));
         if self.slots[Role::W as usize].is_some() && (arc || matches!(def.meaning, Meaning::Rapid | Meaning::Linear)) {
             self.quill_word();
         }

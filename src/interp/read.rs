@@ -224,6 +224,7 @@ impl Interpreter<'_> {
                 self.limited(diags, "unmodelled-code", d);
                 if let Some(m) = moves {
                     self.limited(diags, "motion-unknown", m);
+                    self.position_lost();
                 }
                 self.intent_words = true;
                 return true;

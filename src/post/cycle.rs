@@ -70,6 +70,12 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         self.flush_tool();
         let out = self.out;
         let Some(index) = self.output_cycle(canon, intent) else { return };
+        if self.known & 1 << self.plane.axes().2 == 0 {
+            // The hole axis stands where the program does not know: the levels the analysis
+            // gives the cycle may count from an assumed 0 (a G91 R). Left to its moves, which
+            // are refused where they move that axis.
+            return;
+        }
         let m: &CycleOut = &out.cycles[index];
         let src_clear = self.source_peck_clearance(intent);
         if self.peck_clearance_differs(canon, intent, m, src_clear) {
@@ -298,6 +304,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         vals.set(Value::ClearDist, clear - surface).set(Value::Peck, peck).set(Value::CycleDwell, dwell);
         vals.set(Value::Retract, if clear > r + 1e-6 { 98.0 } else { 99.0 }).set(Value::F, feed);
         vals.set(Value::Seconds, dwell).set(Value::Millis, dwell * 1000.0).set(Value::PeckClearance, src_clear / self.opts.units.to_mm());
+        // A hole where the tool stands, at a position the program does not know: the cycle
+        // drills there, without the numbers the analysis gives it.
+        self.unknown_out(&mut vals);
         (params, vals)
     }
 
@@ -329,6 +338,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                 let to = [self.pos[0], self.pos[1], clear];
                 let mut v = Vals::new();
                 v.set(Value::X, to[0]).set(Value::Y, to[1]).set(Value::Z, to[2]);
+                self.unknown_out(&mut v);
                 self.rules("rapid", true);
                 self.render(t, &mut v, false, true);
                 self.rules("rapid", false);

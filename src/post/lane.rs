@@ -23,7 +23,7 @@
 
 use super::layout::{Class, Layout, LayoutBlock, Num, Part};
 use super::{CanonOp, EPS, FLUSH_AT, INV_POW10, Key, POW10F, Post, ThreeDecimals, number_text, round_scaled};
-use crate::canon::{Canon, Units};
+use crate::canon::{ALL_KNOWN, Canon, Units};
 use crate::dialect::output::{Block, NumberFormat, Output, Piece, Template, Value};
 
 /// The most words a [`Lane`] has: one bit each in [`Lane::words_of`].
@@ -416,6 +416,16 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         {
             return false;
         }
+        let q = self.point(p);
+        // An axis whose position the source does not know that moves: the general way, which
+        // refuses it (`Post::check_unknown`).
+        let known = self.known;
+        if known != ALL_KNOWN
+            && ((0..3).any(|k| known & 1 << k == 0 && (q[k] - self.pos[k]).abs() > EPS)
+                || (0..3).any(|r| known & 8 << r == 0 && (p[3 + r] - self.abc[r]).abs() > EPS))
+        {
+            return false;
+        }
         // From here, what the general path does for this move ([`Post::op`], [`Post::new_line`],
         // [`Post::straight`]).
         self.abc = [p[3], p[4], p[5]];
@@ -425,9 +435,17 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
         self.line = line;
         self.origin = canon.origin;
-        let q = self.point(p);
         let feed = if k == 0 { f64::NAN } else { self.feed };
-        self.lane_block(lane, &[q[0], q[1], q[2], feed, f64::NAN, p[3], p[4], p[5]]);
+        let mut xs = [q[0], q[1], q[2], feed, f64::NAN, p[3], p[4], p[5]];
+        if known != ALL_KNOWN {
+            // Never a word of an axis whose position is unknown (NaN: absent).
+            for (k, slot) in [0, 1, 2, 5, 6, 7].into_iter().enumerate() {
+                if known & 1 << k == 0 {
+                    xs[slot] = f64::NAN;
+                }
+            }
+        }
+        self.lane_block(lane, &xs);
         self.moved(q);
         true
     }

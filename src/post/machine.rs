@@ -12,7 +12,7 @@
 use super::{Post, Vals};
 use crate::canon::{Canon, MachineMove, MachineTarget};
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::output::{MACHINE_AXES, Value};
+use crate::dialect::output::MACHINE_AXES;
 
 /// A machine-frame move under way: its marker, the event that writes it, how many of its
 /// moves are still to come, and whether the target can write it.
@@ -21,6 +21,13 @@ pub(super) struct PendingMachine {
     event: &'static str,
     left: usize,
     writable: bool,
+}
+
+impl PendingMachine {
+    /// Whether the next move is the marker's last: the one to the machine's position.
+    pub(super) fn last_step(&self) -> bool {
+        self.left <= 1
+    }
 }
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
@@ -84,11 +91,12 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             }
             self.event(pending.event, &mut vals);
         }
-        // The axes it moved are where only the machine knows: the next move states them.
-        const AXES: [Value; 6] = [Value::X, Value::Y, Value::Z, Value::A, Value::B, Value::C];
+        // The axes it moved are where only the machine knows: unknown until a block states
+        // them absolutely (`CanonOp::Known`), never written meanwhile (not as the 0 the
+        // analysis gives them).
         for (k, v) in pending.marker.axes.iter().enumerate() {
-            if let (Some(_), Some(slot)) = (v, super::modal_slot(AXES[k])) {
-                self.set_written(slot, None);
+            if v.is_some() {
+                self.known &= !(1 << k);
             }
         }
         self.moved(q);

@@ -8,7 +8,11 @@
 //! the work offset's frame (a G92-style shift is added to the positions). Canned cycles
 //! whose kind the target maps stay cycles; the others are written as their moves, with a
 //! note. Everything the target has no rule for is said in a diagnostic, never silently
-//! dropped.
+//! dropped. Safe output: the canon says which axes the program knows (`CanonOp::Known`:
+//! none at the start, a machine-frame move's axes none after it); an axis it does not know
+//! is never written (not at the 0 the analysis counts from), one that becomes known is
+//! written at its move whatever the word written last, and a move of an unknown axis (an
+//! incremental move from an unknown start) refuses the translation (`post::unknown-start`).
 //!
 //! The ops are written by kind: [`Post::op`] hands each to the writer of its group, in a
 //! file of its own: `motion.rs` the moves, `cycle.rs` canned cycles, `tool.rs` the tool
@@ -134,7 +138,7 @@ use cycle::ActiveCycle;
 use lane::Lane;
 use layout::{Class, Layout, NO_SLOT, Num, Part};
 
-use crate::canon::{Canon, CanonOp, CanonSink, FeedMode, Plane, Setting, Units};
+use crate::canon::{ALL_KNOWN, Canon, CanonOp, CanonSink, FeedMode, Plane, Setting, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::output::{Cmp, Expr, NumberFormat, Numbered, Output, Piece, Point, StateVar, Template, Value};
 
@@ -489,6 +493,10 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     source_tcp: bool,
     /// The source's tool axis in force (its last `ToolAxis` marker).
     source_axis: [f64; 3],
+    /// The axes whose position the source knows (bit `k`: X Y Z A B C, [`CanonOp::Known`]):
+    /// the others are never written (a word counted from an assumed 0), and a move that
+    /// changes one is refused (`post::unknown-start`).
+    known: u8,
     /// The last written text of the modal values X, Y, Z, F, S, A, B, C, by its key, and a
     /// number known to be written so (NaN: none): that number again is left out at once.
     written: [Option<(Key, f64)>; 8],
@@ -1120,6 +1128,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             axis_check: None,
             source_tcp: false,
             source_axis: [0.0, 0.0, 1.0],
+            known: 0,
             written: Default::default(),
             last: [f64::NAN; 9],
             last_fi: [u32::MAX; 9],
@@ -1233,12 +1242,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
         self.started = true;
         self.block = self.out.number_start;
-        // The tool starts at the program zero, as the interpreter has it: a first move
-        // leaves out the axes it does not change, as the source did.
-        for (k, f) in ["X", "Y", "Z", "", "", "A", "B", "C"].iter().enumerate() {
-            let w = self.key_of(f, 0.0);
-            self.set_written(k, w);
-        }
+        // The tool starts where the machine was, not at the program zero the interpreter
+        // counts from: nothing is written of any axis, and each axis the source states is
+        // written at its first move whatever its number (`Post::know`).
         let units = match self.opts.units {
             Units::Mm => "units-mm",
             Units::Inch => "units-inch",
@@ -1944,8 +1950,28 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
 
     fn op(&mut self, canon: &Canon) {
         match &canon.op {
-            CanonOp::StraightTraverse(q) | CanonOp::StraightFeed(q) => self.abc = [q[3], q[4], q[5]],
-            CanonOp::ArcFeed { abc, .. } => self.abc = *abc,
+            CanonOp::StraightTraverse(q) | CanonOp::StraightFeed(q) => {
+                if self.known != ALL_KNOWN && !self.ended {
+                    let end = self.point(q);
+                    self.check_unknown(canon, end, [q[3], q[4], q[5]]);
+                }
+                self.abc = [q[3], q[4], q[5]];
+            }
+            CanonOp::ArcFeed { first_end, second_end, axis_end, abc, .. } => {
+                if self.known != ALL_KNOWN && !self.ended {
+                    let (a, b, n) = self.plane.axes();
+                    let mut end = [0.0; 3];
+                    end[a] = self.to_out(*first_end) + self.g92[a];
+                    end[b] = self.to_out(*second_end) + self.g92[b];
+                    end[n] = self.to_out(*axis_end) + self.g92[n];
+                    self.check_unknown(canon, end, *abc);
+                }
+                self.abc = *abc;
+            }
+            CanonOp::Known(m) => {
+                self.know(*m);
+                return;
+            }
             _ => {}
         }
         if canon.line != self.line && canon.line > 0 && !self.ended {
@@ -2023,6 +2049,61 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::StraightTraverse(p) => self.straight(canon, p, true),
             CanonOp::StraightFeed(p) => self.straight(canon, p, false),
             _ => self.other_op(canon),
+        }
+    }
+
+    /// The axes the source knows from here ([`CanonOp::Known`]): one that becomes known is
+    /// written at its next move even where its number is the one written last (no modal
+    /// suppression across an unknown stretch: the machine is not where that word put it).
+    fn know(&mut self, m: u8) {
+        const AXES: [Value; 6] = [Value::X, Value::Y, Value::Z, Value::A, Value::B, Value::C];
+        let new = m & !self.known;
+        for (k, v) in AXES.into_iter().enumerate() {
+            if new & 1 << k != 0
+                && let Some(slot) = modal_slot(v)
+            {
+                self.set_written(slot, None);
+            }
+        }
+        self.known = m;
+    }
+
+    /// A move to `end` (target units) with rotary axes at `abc`: an axis the source does not
+    /// know the position of that it moves was moved incrementally from an unknown start
+    /// (`G91`, `U`/`W`, `IX` before any absolute word, or after a reference return): its
+    /// number here is counted from an assumed 0. No target's output rules write a move
+    /// incrementally, so the translation is refused at the move. The moves of a cycle written
+    /// as a cycle and of a machine-frame move are the target's own.
+    fn check_unknown(&mut self, canon: &Canon, end: [f64; 3], abc: [f64; 3]) {
+        if self.in_cycle || self.machine.as_ref().is_some_and(machine::PendingMachine::last_step) {
+            return;
+        }
+        const NAMES: [&str; 6] = ["X", "Y", "Z", "A", "B", "C"];
+        let moved: Vec<&str> = (0..6)
+            .filter(|&k| {
+                let (from, to) = if k < 3 { (self.pos[k], end[k]) } else { (self.abc[k - 3], abc[k - 3]) };
+                self.known & 1 << k == 0 && (to - from).abs() > EPS
+            })
+            .map(|k| NAMES[k])
+            .collect();
+        if !moved.is_empty() {
+            let msg = format!(
+                "the translation is refused: {} moves incrementally from a position the program does not know (no absolute word for it since the start or a reference return); the target's output rules write no incremental move, and an absolute position counted from an assumed 0 would send the tool elsewhere",
+                moved.join(" ")
+            );
+            self.note(Code::PostUnknownStart, canon, "unknown-start", msg);
+        }
+    }
+
+    /// The values of the axes whose position the source does not know taken out of `vals`
+    /// (NaN: not written), so that no word counted from an assumed 0 is.
+    fn unknown_out(&self, vals: &mut Vals) {
+        if self.known != ALL_KNOWN {
+            for (k, v) in [Value::X, Value::Y, Value::Z, Value::A, Value::B, Value::C].into_iter().enumerate() {
+                if self.known & 1 << k == 0 {
+                    vals.set(v, f64::NAN);
+                }
+            }
         }
     }
 

@@ -257,6 +257,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         // Rotary axes in degrees, not scaled.
         vals.set(Value::A, p[3]).set(Value::B, p[4]).set(Value::C, p[5]);
         vals.set(Value::F, if rapid { f64::NAN } else { self.feed });
+        self.unknown_out(&mut vals);
         let template = match (thread, rapid) {
             (true, _) => self.out.template(event).map(|(t, _)| t),
             (false, true) => self.moves.0,
@@ -331,10 +332,14 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     vals.set(cc[k], centre[k]);
                 }
                 vals.set(Value::R, if part > std::f64::consts::PI + 1e-9 { -r } else { r });
-                // A full circle: its end words must be written even though unchanged.
+                self.unknown_out(&mut vals);
+                // A full circle: its end words must be written even though unchanged (those
+                // of axes whose position is unknown are not written at all).
                 if halves == 1 && (full || (to[a] - from[a]).hypot(to[b] - from[b]) < 1e-7) {
                     for k in 0..3 {
-                        self.set_written(k, None);
+                        if self.known & 1 << k != 0 {
+                            self.set_written(k, None);
+                        }
                     }
                 }
                 self.rules(event, true);

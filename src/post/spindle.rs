@@ -180,6 +180,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 } else if self.out.template("rigid-tap").is_some() {
                     let mut vals = Vals::new();
                     vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]).set(Value::Pitch, self.sync.unwrap_or(0.0));
+                    self.unknown_out(&mut vals);
                     self.event("rigid-tap", &mut vals);
                     self.motion = None;
                 } else {

@@ -96,6 +96,7 @@ mod sweep43;
 mod tilt;
 mod tool_comments;
 mod translate;
+mod translate_known;
 mod translate_lathe;
 mod unknown_values;
 mod vocabulary;

@@ -95,6 +95,7 @@ impl Interpreter<'_> {
                     let def = self.code(c);
                     let d = super::read::motion_unknown(&def.label(), &def.name, range);
                     self.limited(diags, "motion-unknown", d);
+                    self.position_lost();
                 }
                 self.execute_code(c, range, block, sink, diags);
             }

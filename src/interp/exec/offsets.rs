@@ -297,11 +297,19 @@ impl Interpreter<'_> {
         // lathe's `U`/`W` are incremental X/Z whatever G90/G91 says (Fanuc 0i-TF, Haas lathe
         // manual: `G28 U0 W0` returns through the current position, never through X0 Z0).
         let mut mid = self.st.pos;
+        let mut stated = 0u8;
         for (i, &role) in Role::AXES.iter().enumerate() {
             if let Some(v) = self.slot(role) {
-                mid[i] = if self.incremental(role) { self.st.pos[i] + v } else { v };
+                let incremental = self.incremental(role);
+                mid[i] = if incremental { self.st.pos[i] + v } else { v };
+                if !incremental {
+                    stated |= 1 << i;
+                }
             }
         }
+        // An absolute intermediate point is known on the way (`G90 G28 Z5`); the axes the
+        // return moves are unknown after it (`CanonOp::MachineMove`).
+        self.stated.set(stated);
         let axes = std::array::from_fn(|i| (!any || self.slots[Role::AXES[i] as usize].is_some()).then_some(0.0));
         let target = MachineTarget::Reference(if first { 1 } else { 2 });
         self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target, axes })));

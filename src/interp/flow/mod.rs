@@ -2039,6 +2039,7 @@ impl<'a> Driver<'a, '_> {
         }
         let mut parser = self.parser.fork(self.sources[self.cur].text, from.at, from.line);
         let mut shape: Vec<Canon> = Vec::new();
+        let known = interp.known_state();
         let mut b = Block::default();
         let mut end = None;
         for _ in 0..MAX_CONTOUR_BLOCKS {
@@ -2066,6 +2067,7 @@ impl<'a> Driver<'a, '_> {
             }
         }
         if let Some((st, params, comp, corners, problem)) = saved {
+            interp.restore_known(known);
             interp.st = st;
             interp.params.restore_values(params);
             interp.comp.replace(comp);
@@ -2157,6 +2159,7 @@ impl<'a> Driver<'a, '_> {
         let outer = (std::mem::replace(&mut self.parser, fork), std::mem::replace(&mut self.cur, source));
         let (loops, frames, round, origin) = (self.loops.len(), self.frames.len(), self.round.take(), interp.origin_override);
         let mut shape: Vec<Canon> = Vec::new();
+        let known = interp.known_state();
         let mut finishes = Vec::new();
         let mut b = Box::<Block>::default();
         for _ in 0..MAX_PROFILE_BLOCKS {
@@ -2204,6 +2207,7 @@ impl<'a> Driver<'a, '_> {
         (self.parser, self.cur) = outer;
         self.round = round;
         interp.origin_override = origin;
+        interp.restore_known(known);
         (shape, finishes)
     }
 

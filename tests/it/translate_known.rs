@@ -1,0 +1,197 @@
+//! Safe output: a translation never writes a position the program does not know. The program
+//! starts wherever the machine was; a reference return (`G28`, `G30`) or a move in machine
+//! coordinates (`G53`) leaves its axes where only the machine knows; a block that states an
+//! axis absolutely makes it known again. So a translation
+//! - never restates a homed axis at the 0 the analysis gives it (`G53 G0 Z0.` / `T1 M6` /
+//!   `G0 X-20. Y-8.` must not become `G0 X-20. Y-8. Z0.` before the `G43 Z15. H1`);
+//! - writes every word of the first move that states an axis, even one equal to 0
+//!   (`G0 G54 X10. Y0. Z0.` keeps its `Y0. Z0.`: left out, the tool plunges wherever the tool
+//!   change left it);
+//! - refuses (`post::unknown-start`) a move that goes incrementally from a position the
+//!   program does not know (`G91` first, lathe `U`/`W`, Heidenhain `IX`), never writing it as
+//!   an absolute position counted from an assumed 0;
+//! - and the proof (`pipeline::check_translation`) refuses a text that does any of these.
+
+use ncplan::diag::Diagnostic;
+use ncplan::interp::Profile;
+use ncplan::pipeline::{self, TranslateOptions};
+
+use crate::translate::{MILLS, dialect};
+
+/// The lathe targets (as `translate_lathe`).
+const LATHES: [&str; 9] =
+    ["fanuc_lathe", "fanuc_lathe_b", "haas_lathe", "mazak_lathe", "mitsubishi_lathe", "okuma_lathe", "fagor_lathe", "siemens", "linuxcnc"];
+
+/// `text` from `from` to `to` as `ncplan translate` writes it: the text and the findings, the
+/// proof's among them where the writer gave no error.
+fn translate(text: &str, from: &str, to: &str) -> (String, Vec<Diagnostic>) {
+    let (f, t) = (dialect(from), dialect(to));
+    let mut out = Vec::new();
+    let opts = TranslateOptions { follow_source_units: true, ..TranslateOptions::for_program("O1000") };
+    let mut diags = pipeline::translate(text, &f, &t, &Profile::default(), opts, |b| out.extend_from_slice(b));
+    let written = String::from_utf8(out).expect("UTF-8");
+    if !diags.iter().any(Diagnostic::is_error) {
+        diags.extend(check(text, from, &written, to));
+    }
+    (written, diags)
+}
+
+/// The proof of `written` (in `to`) against `text` (in `from`).
+fn check(text: &str, from: &str, written: &str, to: &str) -> Vec<Diagnostic> {
+    pipeline::check_translation(text.into(), &dialect(from), written, &dialect(to), &Profile::default(), &[])
+}
+
+fn errors(diags: &[Diagnostic]) -> Vec<&Diagnostic> {
+    diags.iter().filter(|d| d.is_error()).collect()
+}
+
+/// The words of a line, without a block number.
+fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().filter(|w| !w.starts_with('N')).collect()
+}
+
+/// Whether `line` is a block that names axis `axis` (`Z`, or Heidenhain's `Z+`/`Z-`).
+fn names_axis(line: &str, axis: char) -> bool {
+    words(line).iter().any(|w| w.starts_with(axis) && w[1..].starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '+' || c == '.'))
+}
+
+#[test]
+fn a_homed_axis_is_not_restated_at_zero_before_the_length_offset() {
+    let path = crate::root().join("tests/programs/shops/haas/fusion_ngc_pocket.nc");
+    let src = std::fs::read_to_string(path).unwrap();
+    for to in ["haas", "fanuc", "linuxcnc", "mitsubishi", "mazak"] {
+        let (out, diags) = translate(&src, "haas", to);
+        assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{to}:\n{out}");
+        // From the tool change to the length offset's block, no move names Z.
+        let lines: Vec<&str> = out.lines().collect();
+        let tc = lines.iter().position(|l| l.contains("T1") && l.contains("M6")).expect("the tool change");
+        let g43 = tc + lines[tc..].iter().position(|l| l.contains("G43")).expect("the length offset");
+        for l in &lines[tc..g43] {
+            assert!(!names_axis(l, 'Z'), "{to}: {l:?} states Z before the length offset:\n{out}");
+        }
+        assert!(names_axis(lines[g43], 'Z'), "{to}: the length offset's own Z is kept: {:?}", lines[g43]);
+    }
+    // The old wrong output, planted: the proof refuses it.
+    let (good, _) = translate(&src, "haas", "haas");
+    assert!(good.contains("G0 X-20. Y-8.\n"), "{good}");
+    let planted = good.replacen("G0 X-20. Y-8.\n", "G0 X-20. Y-8. Z0.\n", 1);
+    let refused = check(&src, "haas", &planted, "haas");
+    assert_eq!(refused.len(), 1, "{refused:?}");
+    assert_eq!(refused[0].code.as_str(), "post::motion-differs");
+    assert!(refused[0].message.contains("the translation states Z where the program does not know the position"), "{}", refused[0].message);
+}
+
+#[test]
+fn lathe_reference_returns_one_axis_at_a_time_get_no_rapid_between() {
+    let src = "O0001\nG21 G40 G99\nG28 U0.\nG28 W0.\nT0101\nG97 S1000 M3\nG0 X50. Z2.\nG1 Z-10. F0.2\nG0 X60.\nG28 U0.\nG28 W0.\nM30\n";
+    let mut written = 0;
+    for to in LATHES {
+        let (out, diags) = translate(src, "fanuc_lathe", to);
+        if !errors(&diags).is_empty() {
+            // Refused (a target without a reference return): nothing is given out.
+            continue;
+        }
+        written += 1;
+        // Every block that names X or Z is a reference return or the program's own moves.
+        for l in out.lines() {
+            let own = ["X50", "Z2", "Z-10", "X60", "X100", "X120"].iter().any(|w| l.contains(w));
+            let home = l.contains("G28") || l.contains("G53") || l.contains("M91") || l.contains("SUPA") || l.contains("G74");
+            if names_axis(l, 'X') || names_axis(l, 'Z') {
+                assert!(own || home, "{to}: {l:?} moves a homed axis to a made-up position:\n{out}");
+            }
+        }
+    }
+    assert!(written >= 7, "the lathe targets with a reference return write it: {written}");
+    // The old wrong output: a rapid to the centreline between the returns.
+    let (good, _) = translate(src, "fanuc_lathe", "haas_lathe");
+    let planted = good.replacen("G28 U0.\nG28 W0.\n", "G28 U0.\nG0 X0.\nG28 W0.\n", 1);
+    assert_ne!(planted, good);
+    let refused = check(src, "fanuc_lathe", &planted, "haas_lathe");
+    assert!(refused.iter().any(|d| d.code.as_str() == "post::motion-differs"), "{refused:?}");
+}
+
+#[test]
+fn mill_reference_returns_in_turn_get_no_rapid_to_zero_between() {
+    let src = "O1000\nG21 G17 G90 G54\nT1 M6\nS1000 M3\nG0 X10. Y20.\nG43 Z5. H1\nG1 Z-1. F100.\nG90 G28 Z5.\nG91 G28 X0. Y0.\nG90\nM30\n";
+    for to in MILLS {
+        let (out, diags) = translate(src, "fanuc", to);
+        if !errors(&diags).is_empty() {
+            continue;
+        }
+        let homes: Vec<usize> = out.lines().enumerate().filter(|(_, l)| l.contains("G28")).map(|(i, _)| i).collect();
+        assert_eq!(homes.len(), 2, "{to}:\n{out}");
+        for l in out.lines().skip(homes[0] + 1).take(homes[1] - homes[0] - 1) {
+            assert!(!names_axis(l, 'Z'), "{to}: {l:?} between the returns:\n{out}");
+        }
+    }
+}
+
+#[test]
+fn the_first_move_keeps_its_words_equal_to_zero() {
+    let src = "O1000\nG21 G17 G90\nT1 M6\nS1000 M3\nG0 G54 X10. Y0. Z0.\nG1 X20. F100.\nM30\n";
+    for to in MILLS {
+        let (out, diags) = translate(src, "fanuc", to);
+        assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{to}:\n{out}");
+        let first = out.lines().find(|l| names_axis(l, 'X')).expect("the first move");
+        assert!(names_axis(first, 'Y') && names_axis(first, 'Z'), "{to}: {first:?} lost Y0 or Z0:\n{out}");
+    }
+    // The old wrong output, planted: the proof refuses it.
+    let (good, _) = translate(src, "fanuc", "fanuc");
+    let planted = good.replacen("X10. Y0. Z0.", "X10.", 1);
+    assert_ne!(planted, good);
+    let refused = check(src, "fanuc", &planted, "fanuc");
+    assert_eq!(refused.len(), 1, "{refused:?}");
+    assert!(
+        refused[0].message.contains("the program states Y Z, which the translation leaves where the machine happens to be"),
+        "{}",
+        refused[0].message
+    );
+}
+
+/// The refusals `post::unknown-start` of a translation, as `line:col` of the source.
+fn unknown_start(src: &str, from: &str, to: &str) -> Vec<(usize, usize)> {
+    let (_, diags) = translate(src, from, to);
+    diags
+        .iter()
+        .filter(|d| d.code.as_str() == "post::unknown-start")
+        .map(|d| {
+            let before = &src[..d.range.start as usize];
+            (before.matches('\n').count() + 1, before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1)
+        })
+        .collect()
+}
+
+#[test]
+fn an_incremental_move_from_an_unknown_start_is_refused_never_counted_from_zero() {
+    // G91 before any absolute word.
+    let mill = "O1000\nG21 G17\nG91 G0 X10. Y5.\nG1 X5. F100.\nG90 G0 X0. Y0. Z10.\nM30\n";
+    for to in MILLS {
+        assert_eq!(unknown_start(mill, "fanuc", to), vec![(3, 1)], "{to}");
+    }
+    // After a reference return, the homed axis again.
+    let homed = "O1000\nG21 G17 G90\nG0 X0. Y0. Z10.\nG91 G28 Z0.\nG0 Z-5.\nG90\nM30\n";
+    assert_eq!(unknown_start(homed, "fanuc", "haas"), vec![(5, 1)]);
+    // Incremental from a known start is a move like any other.
+    let known = "O1000\nG21 G17 G90\nG0 X0. Y0. Z10.\nG91 G1 X10. F100.\nG90\nM30\n";
+    for to in MILLS {
+        let (out, diags) = translate(known, "fanuc", to);
+        assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{to}:\n{out}");
+    }
+    // A lathe's U and W before any X or Z.
+    let lathe = "O0001\nG21 G99\nT0101\nG97 S1000 M3\nG0 U-2. W-1.\nG0 X50. Z2.\nM30\n";
+    for to in ["fanuc_lathe", "haas_lathe", "linuxcnc"] {
+        assert_eq!(unknown_start(lathe, "fanuc_lathe", to), vec![(5, 1)], "{to}");
+    }
+    // Heidenhain's IX.
+    let tnc = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L IX+10 R0 FMAX\n3 L X+0 Y+0 Z+10 R0 FMAX\n4 END PGM T MM\n";
+    assert_eq!(unknown_start(tnc, "heidenhain", "fanuc"), vec![(3, 1)]);
+    // The old wrong output (absolute positions from an assumed 0), planted: the proof refuses it.
+    let planted = "%\nO1000\nG17 G40 G80 G90\nG21\nG0 X10. Y5.\nG1 X15. F100.\nG0 X0. Y0. Z10.\nM30\n%\n";
+    let refused = check(mill, "fanuc", planted, "fanuc");
+    assert_eq!(refused.len(), 1, "{refused:?}");
+    assert!(
+        refused[0].message.contains("the translation states X Y where the program does not know the position"),
+        "{}",
+        refused[0].message
+    );
+}
