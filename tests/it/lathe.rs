@@ -861,7 +861,12 @@ fn lathe_s7_held_out_programs() {
 /// `G73` pattern-repeating roughing and `G70`; `G94`, `G71`, a written-out finish calling an
 /// undercut subprogram not in the file, and a two-block `G76` M36x1.5. All Fanuc-type controls
 /// (no unused program of another lathe control was found in the index). Only the sidecars are
-/// committed; written before ncplan ran on them. Not yet measured.
+/// committed; written before ncplan ran on them. Measured at the session 18 start (integrate
+/// 24fcaaf): 87 of 91, no milling feature. No longer held back: 91 of 91 after branch lathe18
+/// (7 December 2026: `G73` pattern repeating cut as the Fanuc manual gives it, a `G74` face
+/// groove and its wall passes one grooving, a face cut in short of the axis facing; the
+/// adapter's groove renamed grooving finish by the grooving convention, 90 of 91 as first
+/// written).
 ///
 /// `tests/programs/lathe_build16/` is branch lathe22's own build set (see `lathe_build16_programs`).
 #[test]
