@@ -479,6 +479,9 @@ fn contour_intent(def: &CodeDef, rough: Option<Rough>, cut: Option<(f64, f64)>) 
 /// Roughing passes a cycle may make at most: more is a slip in the depth of cut.
 const MAX_ROUGH_PASSES: f64 = 10_000.0;
 
+/// Moves a pattern repeating cycle may make at most (its passes times its contour's moves).
+const MAX_PATTERN_MOVES: f64 = 1_000_000.0;
+
 impl Interpreter<'_> {
     /// Fanuc's G71 and G70 (`cycle-rough-turn`, `cycle-finish-contour`): the first block of
     /// G71's two-block form keeps the depth of cut and retract; a block with P and Q asks the
@@ -683,6 +686,15 @@ impl Interpreter<'_> {
         diags: &mut Vec<Diagnostic>,
     ) {
         if let Some(pattern) = r.pattern {
+            if f64::from(pattern.passes) * contour.len() as f64 > MAX_PATTERN_MOVES {
+                let msg = format!(
+                    "the pattern repeating cycle would cut its contour of {} moves {} times; the cycle is skipped",
+                    contour.len(),
+                    pattern.passes
+                );
+                diags.push(Diagnostic::new(Code::BadValue, self.origin, msg));
+                return;
+            }
             return self.pattern_passes(r, pattern, start, contour, sink);
         }
         let (a0, a1, _) = self.st.plane.axes();

@@ -1961,7 +1961,7 @@ fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool,
     // And a lead-in along Z down to the part's front then one cut in across towards the axis,
     // stopping short of it: the front faced from outside in where the centre is left (a tube,
     // a ring, a centre drilled and bored later: `G1 Z0` at Ø5.525, then `X3.5`).
-    let (out_of_the_bore, in_to_a_bore) = match run.iter().filter(|m| !air(m)).collect::<Vec<_>>().as_slice() {
+    let (out_of_the_bore, in_short_of_the_axis) = match run.iter().filter(|m| !air(m)).collect::<Vec<_>>().as_slice() {
         [lead, cut] if (lead.to[0] - lead.from[0]).abs() < TOL && lead.to[2] < lead.from[2] - TOL && across_x(cut) => (
             cut.to[0] > cut.from[0] + TOL && (boring || lead.to[2] >= front - TOL),
             cut.to[0].abs() < cut.from[0].abs() - TOL && lead.to[2] >= front - TOL,
@@ -1969,7 +1969,7 @@ fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool,
         _ => (false, false),
     };
     let mostly = total > TOL && across >= 0.75 * total - TOL;
-    mostly && ((xmin < 0.05 && (ends_inward || reaches)) || (xmin >= 0.05 && (out_of_the_bore || in_to_a_bore)))
+    mostly && ((xmin < 0.05 && (ends_inward || reaches)) || (xmin >= 0.05 && (out_of_the_bore || in_short_of_the_axis)))
 }
 
 /// The features a workingstep machines, with the Z they are placed at.
