@@ -161,7 +161,8 @@ pub struct CycleIntent {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TurnKind {
-    /// Stock removal along Z towards a contour (Fanuc G71, CYCLE95 longitudinal).
+    /// Stock removal along Z towards a contour (Fanuc G71, CYCLE95 longitudinal), or the
+    /// contour cut again in passes shifted towards it (Fanuc G73 pattern repeating).
     RoughTurn,
     /// Stock removal along X towards a contour (Fanuc G72, CYCLE95 face).
     RoughFace,
@@ -236,6 +237,13 @@ pub struct TurnIntent {
     /// length, without run-in and run-out), where the cycle states it (Siemens CYCLE93, CYCLE97).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub span: Option<[f64; 2]>,
+    /// A pattern repeating cycle's relief (Fanuc G73's first U and W, Haas G73 I and K): how
+    /// far its first pass lies off its last, X per side and Z.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relief: Option<[f64; 2]>,
+    /// A pattern repeating cycle's number of passes (Fanuc G73 R, Haas G73 D).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub divisions: Option<u32>,
     /// Where a contour cycle's contour blocks stand in the source it reads them from (byte
     /// offsets of the block P names and of the block Q names): a finishing cycle and the
     /// roughing cycle whose contour it repeats name the same blocks (Fanuc's G70 runs the
@@ -1136,6 +1144,12 @@ fn turning(out: &mut Vec<u8>, t: &TurnIntent) {
     }
     if let Some([lo, hi]) = t.span {
         put(out, format_args!(" z={}..{}", F4(lo), F4(hi)));
+    }
+    if let Some([x, z]) = t.relief {
+        put(out, format_args!(" relief={},{}", F4(x), F4(z)));
+    }
+    if let Some(n) = t.divisions {
+        put(out, format_args!(" divisions={n}"));
     }
     out.extend_from_slice(b"\")");
 }

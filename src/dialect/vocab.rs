@@ -108,6 +108,17 @@ vocab! {
         /// and Z exchanged, the passes along X and the depth of cut (W) stepping in Z; with P
         /// and Q, its cut-depth word is the Z finishing allowance.
         CycleRoughFace = "cycle-rough-face",
+        /// A lathe's pattern repeating cycle (Fanuc G73, two blocks): the contour between the
+        /// blocks numbered P and Q is cut as it is drawn, again and again, each pass a copy of
+        /// it shifted by the finishing allowances and a share of the relief, from the whole
+        /// relief on the first pass to none on the last; from the start point and back to it
+        /// after each pass; the run goes on after block Q. The block without P and Q gives the
+        /// relief in X (a radius) and in Z in its X and Z words (U, W) and the number of passes
+        /// in the word its args name `passes` (R); with P and Q, its X and Z words are the
+        /// finishing allowances (X a diameter). Where the args name other words for the relief
+        /// as `axis-x` and `axis-z` (Haas `G73 P Q U W I K D`, one block: `I:axis-x K:axis-z
+        /// D:passes`), the block with P and Q gives the relief and the passes too.
+        CycleRoughPattern = "cycle-rough-pattern",
         /// A lathe's finishing cycle (Fanuc G70): the contour between the blocks numbered P
         /// and Q runs as written, then the tool returns to the start point at rapid.
         CycleFinishContour = "cycle-finish-contour",
@@ -845,6 +856,12 @@ vocab! {
 }
 
 impl Meaning {
+    /// Whether the meaning is a lathe cycle over the contour between the blocks its P and Q
+    /// name (Fanuc G70-G73).
+    pub fn names_contour(self) -> bool {
+        matches!(self, Meaning::CycleRoughTurn | Meaning::CycleRoughFace | Meaning::CycleRoughPattern | Meaning::CycleFinishContour)
+    }
+
     /// Whether the meaning sets or cancels a mirror image (programmable, or the frame's).
     pub fn mirrors(self) -> bool {
         matches!(self, Meaning::FrameMirror | Meaning::FrameMirrorAdd | Meaning::Mirror | Meaning::MirrorAboutZero | Meaning::MirrorCancel)

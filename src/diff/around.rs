@@ -38,6 +38,7 @@ pub(super) fn starts_where_called(m: Meaning) -> bool {
             | M::CycleThreadPass
             | M::CycleRoughTurn
             | M::CycleRoughFace
+            | M::CycleRoughPattern
             | M::CycleFinishContour
             | M::CycleThreadMultiple
             | M::CycleGroove
@@ -47,7 +48,7 @@ pub(super) fn starts_where_called(m: Meaning) -> bool {
 
 /// Whether a code's meaning is a cycle that names its contour by the block numbers `P` and `Q`.
 fn names_contour(m: Meaning) -> bool {
-    matches!(m, Meaning::CycleRoughTurn | Meaning::CycleRoughFace | Meaning::CycleFinishContour)
+    m.names_contour()
 }
 
 /// Whether the dictionary has lathe cycles at all: only then are the blocks read again.

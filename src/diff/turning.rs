@@ -238,6 +238,18 @@ pub(super) fn cutting(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<
         push(ChangeKind::CycleParameterChanged, field, ta.passes.to_string(), tb.passes.to_string(), at);
         explained = true;
     }
+    // A pattern repeating cycle's relief (how far its first pass lies off its last) and
+    // number of passes, as G73 writes them: U (per side) and W, and R.
+    if differs(ia.relief.map(|r| r[0]), ib.relief.map(|r| r[0])) || differs(ia.relief.map(|r| r[1]), ib.relief.map(|r| r[1])) {
+        let uw = |r: Option<[f64; 2]>| r.map_or_else(|| "none".to_owned(), |[x, z]| format!("U{} W{}", u.c(x), u.c(z)));
+        push(ChangeKind::CycleParameterChanged, "pattern_relief", uw(ia.relief), uw(ib.relief), at);
+        explained = true;
+    }
+    if ia.divisions != ib.divisions {
+        let n = |v: Option<u32>| v.map_or_else(|| "none".to_owned(), |v| v.to_string());
+        push(ChangeKind::CycleParameterChanged, "pattern_passes", n(ia.divisions), n(ib.divisions), at);
+        explained = true;
+    }
     if ia.finish_passes != ib.finish_passes {
         let n = |v: Option<u32>| v.map_or_else(|| "none".to_owned(), |v| v.to_string());
         push(ChangeKind::CycleParameterChanged, "finishing_passes", n(ia.finish_passes), n(ib.finish_passes), at);

@@ -372,14 +372,27 @@ pub(crate) struct Rough {
     allow_z: f64,
     /// Passes along X, the depth stepping in Z (G72), rather than along Z (G71).
     pub(super) facing: bool,
+    /// The contour cut again in passes shifted towards it (G73 pattern repeating), rather
+    /// than passes along Z or X up to it.
+    pattern: Option<Pattern>,
 }
 
 impl Rough {
     /// A roughing of `depth` per pass, retracting `retract`, leaving `allow_x` (a radius,
     /// negative inside) and `allow_z`; along X when `facing`.
     pub(super) fn new(depth: f64, retract: f64, allow_x: f64, allow_z: f64, facing: bool) -> Rough {
-        Rough { depth, retract, allow_x, allow_z, facing }
+        Rough { depth, retract, allow_x, allow_z, facing, pattern: None }
     }
+}
+
+/// How a pattern repeating cycle (Fanuc G73) cuts: the first pass lies `relief_x` (a radius)
+/// and `relief_z` off the last, which lies on the contour shifted by the allowances; `passes`
+/// passes in all, evenly apart.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Pattern {
+    relief_x: f64,
+    relief_z: f64,
+    passes: u32,
 }
 
 /// A contour element in the ZX plane, as (X, Z) points: a line, or an arc about a centre
@@ -443,7 +456,8 @@ impl Element {
 }
 
 /// What a contour cycle states, for the plan: its depth of cut, retract and allowances (X on
-/// the diameter), in program units.
+/// the diameter), in program units; a pattern repeating cycle its relief and passes instead
+/// of a depth of cut and retract.
 fn contour_intent(def: &CodeDef, rough: Option<Rough>, cut: Option<(f64, f64)>) -> TurnIntent {
     let kind = match rough {
         Some(r) if r.facing => TurnKind::RoughFace,
@@ -452,16 +466,24 @@ fn contour_intent(def: &CodeDef, rough: Option<Rough>, cut: Option<(f64, f64)>) 
     };
     let mut t = TurnIntent { kind: Some(kind), code: def.label(), ..TurnIntent::default() };
     if let Some(r) = rough {
-        t.depth_of_cut = cut.map(|c| c.0);
-        t.retract = Some(r.retract);
         t.allowance_x = Some(2.0 * r.allow_x);
         t.allowance_z = Some(r.allow_z);
+        if let Some(p) = r.pattern {
+            t.relief = Some([p.relief_x, p.relief_z]);
+            t.divisions = Some(p.passes);
+        } else {
+            t.depth_of_cut = cut.map(|c| c.0);
+            t.retract = Some(r.retract);
+        }
     }
     t
 }
 
 /// Roughing passes a cycle may make at most: more is a slip in the depth of cut.
 const MAX_ROUGH_PASSES: f64 = 10_000.0;
+
+/// Moves a pattern repeating cycle may make at most (its passes times its contour's moves).
+const MAX_PATTERN_MOVES: f64 = 1_000_000.0;
 
 impl Interpreter<'_> {
     /// Fanuc's G71 and G70 (`cycle-rough-turn`, `cycle-finish-contour`): the first block of
@@ -480,6 +502,9 @@ impl Interpreter<'_> {
         let named = |s: &Self, role: Role| def.args.iter().find(|(_, to)| *to == role).and_then(|(from, _)| s.slot(*from));
         let (p, q) = (named(self, Role::P).or(self.slot(Role::P)), self.slot(Role::Q));
         let to_end = q.is_none() && self.dialect.codes.iter().any(|c| c.meaning == Meaning::ContourEnd);
+        if def.meaning == Meaning::CycleRoughPattern {
+            return self.pattern_cycle(def, p, q, range, diags);
+        }
         if matches!(def.meaning, Meaning::CycleRoughTurn | Meaning::CycleRoughFace) && p.is_none() && q.is_none() {
             let (depth, retract) = self.st.rough_cut.unwrap_or((0.0, 0.0));
             self.st.rough_cut = Some((arg(self, Role::CutDepth).unwrap_or(depth), arg(self, Role::RetractDistance).unwrap_or(retract)));
@@ -526,7 +551,7 @@ impl Interpreter<'_> {
                 diags.push(Diagnostic::new(Code::BadValue, range, msg));
                 return;
             }
-            Some(Rough { depth, retract, allow_x, allow_z, facing })
+            Some(Rough { depth, retract, allow_x, allow_z, facing, pattern: None })
         } else {
             None
         };
@@ -537,6 +562,117 @@ impl Interpreter<'_> {
         }
         self.turn_intent = Some(Box::new(contour_intent(def, rough, self.st.rough_cut)));
         self.request = Some(super::Request::Contour { first, last, rough });
+    }
+
+    /// Fanuc's G73 (`cycle-rough-pattern`): the block without P and Q keeps the relief and the
+    /// number of passes; the block with them (its U and W the allowances) asks the flow driver
+    /// for the contour between those blocks, to be cut again in passes (`pattern_passes`).
+    fn pattern_cycle(&mut self, def: &CodeDef, p: Option<f64>, q: Option<f64>, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        // A word as written (an X word is halved in diameter mode by the read; the relief in
+        // X is a radius as written, the allowance a diameter).
+        let written = |s: &Self, from: Role| s.slot(from).map(|v| if from == Role::X && s.st.diameter { 2.0 * v } else { v });
+        // The words the args name for the relief (as the X and Z displacement) and the passes.
+        let named = |role: Role| def.args.iter().find(|(_, to)| *to == role).map(|(from, _)| *from);
+        let (relief_x, relief_z) = (named(Role::X), named(Role::Z));
+        let passes = named(Role::Passes).unwrap_or(Role::R);
+        // The first block of the two-block form gives the relief in its X and Z words (U, W);
+        // a one-block form in the words its args name (Haas I and K), with P and Q.
+        let with_contour = p.is_some() || q.is_some();
+        let (wx, wz) = if with_contour { (relief_x, relief_z) } else { (relief_x.or(Some(Role::X)), relief_z.or(Some(Role::Z))) };
+        let stated = (wx.and_then(|r| written(self, r)), wz.and_then(|r| written(self, r)), written(self, passes));
+        let stated = if with_contour && relief_x.is_none() { (None, None, None) } else { stated };
+        if stated != (None, None, None) {
+            let was = self.st.pattern_cut;
+            let n = stated.2.map(|n| if n.fract() == 0.0 && (1.0..=MAX_ROUGH_PASSES).contains(&n) { n as u32 } else { 0 });
+            self.st.pattern_cut = Some(Pattern {
+                relief_x: stated.0.or(was.map(|w| w.relief_x)).unwrap_or(0.0),
+                relief_z: stated.1.or(was.map(|w| w.relief_z)).unwrap_or(0.0),
+                passes: n.or(was.map(|w| w.passes)).unwrap_or(0),
+            });
+        }
+        if !with_contour {
+            return;
+        }
+        let block_number = |v: Option<f64>| v.filter(|v| *v >= 0.0 && v.fract() == 0.0 && *v < 1e9).map(|v| v as u32);
+        let (Some(first), Some(last)) = (block_number(p), block_number(q)) else {
+            let msg = format!("{} needs P and Q, the block numbers where its contour begins and ends; the cycle is skipped", def.label());
+            diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+            return;
+        };
+        let Some(pattern) = self.st.pattern_cut.filter(|p| p.passes >= 1) else {
+            let msg = format!(
+                "{} has no number of passes (a whole number from 1): a {} block with the relief and the passes, before this one, gives it; the cycle is skipped",
+                def.label(),
+                def.label()
+            );
+            diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+            return;
+        };
+        // With P and Q, U and W are the allowances, X on the diameter.
+        let x_word = self.slot(Role::X).unwrap_or(0.0);
+        let allow_x = if self.st.diameter { x_word } else { x_word / 2.0 };
+        let allow_z = self.slot(Role::Z).unwrap_or(0.0);
+        if ![pattern.relief_x, pattern.relief_z, allow_x, allow_z].iter().all(|v| v.is_finite()) {
+            let msg = format!("{}: the relief and the allowances must be numbers; the cycle is skipped", def.label());
+            diags.push(Diagnostic::new(Code::BadValue, range, msg));
+            return;
+        }
+        if self.st.plane != crate::canon::Plane::Xz {
+            let msg = format!("{} turns in the ZX plane (G18); the cycle is skipped", def.label());
+            diags.push(Diagnostic::new(Code::Unsupported, range, msg));
+            return;
+        }
+        let rough = Rough { depth: 0.0, retract: 0.0, allow_x, allow_z, facing: false, pattern: Some(pattern) };
+        self.turn_intent = Some(Box::new(contour_intent(def, Some(rough), None)));
+        self.request = Some(super::Request::Contour { first, last: Some(last), rough: Some(rough) });
+    }
+
+    /// The passes of a pattern repeating cycle (Fanuc G73): the contour's blocks (`contour`,
+    /// run from `start`) cut as written, each pass shifted by the allowances and its share of
+    /// the relief, the whole relief on the first pass and none on the last; the P block's
+    /// move (at rapid or feed as written) takes the tool from the start point onto each
+    /// pass, and the tool returns to the start point at rapid after each.
+    fn pattern_passes(&mut self, r: Rough, pattern: Pattern, start: [f64; 6], contour: &[crate::canon::Canon], sink: &mut dyn CanonSink) {
+        let (a0, a1, _) = self.st.plane.axes();
+        let n = pattern.passes.max(1);
+        for k in 0..n {
+            let share = if n > 1 { f64::from(n - 1 - k) / f64::from(n - 1) } else { 0.0 };
+            let (dx, dz) = (r.allow_x + pattern.relief_x * share, r.allow_z + pattern.relief_z * share);
+            let shift = |p: &[f64; 6]| {
+                let mut q = *p;
+                q[0] += dx;
+                q[2] += dz;
+                q
+            };
+            for c in contour {
+                match &c.op {
+                    CanonOp::StraightTraverse(p) => self.go(sink, shift(p), false),
+                    CanonOp::StraightFeed(p) => self.go(sink, shift(p), true),
+                    CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
+                        let (mut end, mut centre) = ([0.0; 6], [0.0; 6]);
+                        (end[a0], end[a1], centre[a0], centre[a1]) = (*first_end, *second_end, *first_axis, *second_axis);
+                        end[3 - a0 - a1] = *axis_end;
+                        (end[3], end[4], end[5]) = (abc[0], abc[1], abc[2]);
+                        let (end, centre) = (shift(&end), shift(&centre));
+                        self.emit(
+                            sink,
+                            CanonOp::ArcFeed {
+                                first_end: end[a0],
+                                second_end: end[a1],
+                                first_axis: centre[a0],
+                                second_axis: centre[a1],
+                                rotation: *rotation,
+                                axis_end: *axis_end,
+                                abc: *abc,
+                            },
+                        );
+                        self.st.pos = end;
+                    }
+                    _ => {}
+                }
+            }
+            self.go(sink, start, false);
+        }
     }
 
     /// Roughs out `contour` (the canon of its blocks, run from `start`) as G71 and G72 type I
@@ -552,6 +688,18 @@ impl Interpreter<'_> {
         sink: &mut dyn CanonSink,
         diags: &mut Vec<Diagnostic>,
     ) {
+        if let Some(pattern) = r.pattern {
+            if f64::from(pattern.passes) * contour.len() as f64 > MAX_PATTERN_MOVES {
+                let msg = format!(
+                    "the pattern repeating cycle would cut its contour of {} moves {} times; the cycle is skipped",
+                    contour.len(),
+                    pattern.passes
+                );
+                diags.push(Diagnostic::new(Code::BadValue, self.origin, msg));
+                return;
+            }
+            return self.pattern_passes(r, pattern, start, contour, sink);
+        }
         let (a0, a1, _) = self.st.plane.axes();
         // Exchanging the axes mirrors the plane: arcs turn the other way.
         let flip = if r.facing { -1 } else { 1 };

@@ -682,6 +682,9 @@ struct State {
     /// A lathe roughing cycle's depth of cut and retract, as its first block (`G71 U2. R.5`)
     /// set them for the ones after it.
     rough_cut: Option<(f64, f64)>,
+    /// A pattern repeating cycle's relief (X a radius, Z) and number of passes, as its first
+    /// block (`G73 U14. W4. R3`) set them for the ones after it.
+    pattern_cut: Option<cycle::Pattern>,
     /// What the first block of a lathe's G74/G75/G76 set for the ones after it.
     lathe_setup: lathe::LatheSetup,
     /// Polar coordinate interpolation on a lathe (G12.1, TRANSMIT) in force: the plane it
@@ -755,6 +758,7 @@ impl State {
             turn_cycle: None,
             nurbs: None,
             rough_cut: None,
+            pattern_cut: None,
             lathe_setup: lathe::LatheSetup::default(),
             face_plane: None,
             cylinder: None,

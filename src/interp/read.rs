@@ -30,7 +30,8 @@ struct WordReading {
     /// number, no length, in a block with such a call.
     call_start: Option<Role>,
     /// The role of a tilted-plane code's form selector (`G68.2 P2 Q1`, `P1 Q321`: its
-    /// `tilt-mode`), read as a number, no length.
+    /// `tilt-mode`), or of a count a code's args name (`G73 U14 W4 R3`: R the `passes`), read
+    /// as a number, no length.
     selector: Option<Role>,
 }
 
@@ -282,7 +283,7 @@ impl Interpreter<'_> {
         let selector = self.codes.iter().find_map(|&(c, _)| {
             let def = self.code(c);
             let tilt = !def.tilt_forms.is_empty();
-            def.args.iter().find(|&&(_, to)| tilt && to == Role::TiltMode).map(|&(from, _)| from)
+            def.args.iter().find(|&&(_, to)| (tilt && to == Role::TiltMode) || to == Role::Passes).map(|&(from, _)| from)
         });
         WordReading { units, diameter, diameter_absolute, k_counts, call_start, selector }
     }

@@ -971,6 +971,7 @@ impl<'p> Recovery<'p> {
             peck: k(t.peck),
             step: k(t.step),
             span: t.span.map(|[lo, hi]| [round_sig(self.mm(lo)), round_sig(self.mm(hi))]),
+            relief: t.relief.map(|r| r.map(|v| round_sig(self.mm(v)))),
             ..t.clone()
         }
     }

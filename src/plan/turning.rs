@@ -124,6 +124,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     }
     group_passes(plan, remeasure);
     one_groove(plan, remeasure);
+    face_groove_walls(plan, remeasure);
     for ws in &mut plan.workingsteps {
         off_the_face(ws, remeasure);
     }
@@ -1139,6 +1140,49 @@ fn one_groove(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     plan.workingsteps = out;
 }
 
+/// A face grooving cycle (`G74` off the axis: pecks along -Z) and the passes the same tool
+/// then cuts in that groove, each plunged along -Z into the face and left back up along +Z
+/// (`face_plunges`), over diameters that take in the cycle's plunges (its walls and floor cut
+/// to size, a chamfer at its edge): one grooving operation, as a groove's plunge and its
+/// flanks are (`one_groove`), the groove as wide as all its passes' span.
+fn face_groove_walls(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
+    let pecks = |w: &Workingstep| {
+        w.turning.as_deref().and_then(|t| t.intent.as_ref()).is_some_and(|i| i.kind == Some(TurnKind::FacePeck)) && w.holes.is_empty()
+    };
+    // Passes as moves (the depth of cut `group_passes` read between them is no cycle's).
+    let explicit = |w: &Workingstep| {
+        w.turning.as_deref().is_some_and(|t| {
+            t.intent.as_ref().is_none_or(|i| *i == crate::canon::TurnIntent { depth_of_cut: i.depth_of_cut, ..Default::default() })
+                && t.cycle.is_none()
+                && t.pitch.is_none()
+        }) && w.holes.is_empty()
+    };
+    let mut out: Vec<Workingstep> = Vec::new();
+    for ws in std::mem::take(&mut plan.workingsteps) {
+        let joins = out.last().is_some_and(|prev| {
+            pecks(prev)
+                && explicit(&ws)
+                && prev.tool == ws.tool
+                && prev.setup == ws.setup
+                && prev.state.work_offset == ws.state.work_offset
+                && prev.technology.spindle_id == ws.technology.spindle_id
+                && !ws.state.stops.iter().any(|s| s.at == 0)
+                && face_plunges(prev).zip(face_plunges(&ws)).is_some_and(|(a, b)| a.lo >= b.lo - TOL && a.hi <= b.hi + TOL)
+        });
+        match out.last_mut() {
+            Some(prev) if joins => {
+                join(prev, ws);
+                remeasure(prev);
+            }
+            _ => out.push(ws),
+        }
+    }
+    for (k, ws) in out.iter_mut().enumerate() {
+        ws.index = k as u32 + 1;
+    }
+    plan.workingsteps = out;
+}
+
 /// A workingstep's passes as the passes of one groove (`one_groove`).
 struct GroovePasses {
     /// Which way the passes go into the part across X: -1 outside, 1 in a bore.
@@ -1448,6 +1492,18 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     // Passes recovery joined as one operation, each a step from the one before.
     let stepped_in = t.intent.as_ref().is_some_and(|i| i.kind.is_none() && i.depth_of_cut.is_some_and(|d| d > TOL));
     let plunges = plunges(ws, &runs);
+    // A face grooving tool's passes (or `G74`'s, with the passes joined to it) plunged along
+    // -Z into the face off the axis and left back up along +Z (`face_plunges`) cut a groove in
+    // the face: a cut across X at their floor runs along the groove's floor between its walls,
+    // not off a bore's wall.
+    let face_tool = match intent_kind {
+        None => grooving,
+        Some(k) => k == TurnKind::FacePeck,
+    };
+    let face_grooving = face_tool && !boring && xmin >= 0.05 && face_plunges(ws).is_some();
+    if face_grooving {
+        t.inside = false;
+    }
     let (op, rough) = match intent_kind {
         Some(TurnKind::RoughTurn) if runs.last().is_some_and(|r| face_contour(r)) => (TurnOp::Facing, true),
         // A contour cycle run outside by a grooving tool the program names (`(OD GROOVE TURN)`
@@ -1485,9 +1541,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // A face grooving tool's passes plunged along -Z between two diameters (`face_plunges`):
         // roughing where the passes also cut across X at their floors (they leave the walls to
         // a finish), else the plunges make the groove.
-        None if grooving && xmin >= 0.05 && !t.inside && face_plunges(ws).is_some() => {
-            (TurnOp::Grooving, runs.len() > 1 && face_plunges(ws).is_some_and(|p| p.across))
-        }
+        None if face_grooving => (TurnOp::Grooving, runs.len() > 1 && face_plunges(ws).is_some_and(|p| p.across)),
         // A groove plunged and its flanks finished, each pass in and back out across X over
         // one stretch of Z (`one_groove`; not passes stepping a face down, each a depth of cut
         // from the one before): one grooving operation that finishes the groove.
@@ -1888,7 +1942,8 @@ fn profiled_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
 /// axis, a boring bar's lead-in and its one cut out across from the bore face too, where the
 /// tool is a boring tool or the lead-in ends at the part's front (`front`): an outside tool
 /// fed along Z into the stock and then out across turns a diameter and its shoulder
-/// (`G1 Z-2.` at Ø20, then `X40.`), the lead-in being the cut.
+/// (`G1 Z-2.` at Ø20, then `X40.`), the lead-in being the cut. So does an outside tool's
+/// lead-in down to the front and one cut in across, short of the axis.
 fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool, front: f64, boring: bool) -> bool {
     let [run] = runs else { return false };
     let across_x = |m: &&Move| (m.to[2] - m.from[2]).abs() < TOL;
@@ -1903,18 +1958,18 @@ fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool,
     // Or, clear of the axis, a lead-in along Z then one cut out across from the bore: a boring
     // bar facing the front out from the hole it stands in (the face out from Ø1.8 to Ø3.0 after
     // `G1 Z0.` at Ø1.8), as a turning tool faces in to the axis.
-    let out_of_the_bore = match run.iter().filter(|m| !air(m)).collect::<Vec<_>>().as_slice() {
-        [lead, cut] => {
-            (lead.to[0] - lead.from[0]).abs() < TOL
-                && lead.to[2] < lead.from[2] - TOL
-                && across_x(cut)
-                && cut.to[0] > cut.from[0] + TOL
-                && (boring || lead.to[2] >= front - TOL)
-        }
-        _ => false,
+    // And a lead-in along Z down to the part's front then one cut in across towards the axis,
+    // stopping short of it: the front faced from outside in where the centre is left (a tube,
+    // a ring, a centre drilled and bored later: `G1 Z0` at Ø5.525, then `X3.5`).
+    let (out_of_the_bore, in_short_of_the_axis) = match run.iter().filter(|m| !air(m)).collect::<Vec<_>>().as_slice() {
+        [lead, cut] if (lead.to[0] - lead.from[0]).abs() < TOL && lead.to[2] < lead.from[2] - TOL && across_x(cut) => (
+            cut.to[0] > cut.from[0] + TOL && (boring || lead.to[2] >= front - TOL),
+            cut.to[0].abs() < cut.from[0].abs() - TOL && lead.to[2] >= front - TOL,
+        ),
+        _ => (false, false),
     };
     let mostly = total > TOL && across >= 0.75 * total - TOL;
-    mostly && ((xmin < 0.05 && (ends_inward || reaches)) || (xmin >= 0.05 && out_of_the_bore))
+    mostly && ((xmin < 0.05 && (ends_inward || reaches)) || (xmin >= 0.05 && (out_of_the_bore || in_short_of_the_axis)))
 }
 
 /// The features a workingstep machines, with the Z they are placed at.

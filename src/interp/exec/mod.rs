@@ -247,7 +247,7 @@ impl Interpreter<'_> {
             Meaning::CycleCallAt => self.call_at_position(sink),
             Meaning::MachineDataRead => self.machine_data_read(def, range, diags),
             Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid => self.code_pattern(def, range, block, sink, diags),
-            Meaning::CycleRoughTurn | Meaning::CycleRoughFace | Meaning::CycleFinishContour => self.contour_cycle(def, range, diags),
+            m if m.names_contour() => self.contour_cycle(def, range, diags),
             Meaning::ProfileFinish | Meaning::ProfileRoughTurn | Meaning::ProfileRoughFace => self.profile_cycle(def, range, diags),
             Meaning::CycleIntent | Meaning::CycleTurnIntent => self.cycle_intent(def, range, diags),
             Meaning::CycleThreadMultiple | Meaning::CycleGroove | Meaning::CycleFacePeck => self.lathe_cycle(def, range, sink, diags),
