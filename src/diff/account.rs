@@ -1520,6 +1520,18 @@ fn readable(t: &str, d: &Dialect) -> String {
         out.push(' ');
         rest = &rest[k.len()..];
     }
+    // A word operator written against the number after it (`EQU0`, the statement's spelling
+    // of `EQU +0`): the relation apart from its operand.
+    let word = rest.bytes().take_while(u8::is_ascii_alphabetic).count();
+    if word > 0
+        && word < rest.len()
+        && crate::syntax::BinOp::named(&rest[..word].to_ascii_uppercase()).is_some()
+        && rest[word..].starts_with(|c: char| c.is_ascii_digit() || matches!(c, '.' | '+' | '-'))
+    {
+        out.push_str(&rest[..word]);
+        out.push(' ');
+        rest = &rest[word..];
+    }
     out.push_str(rest);
     out
 }

@@ -1544,7 +1544,7 @@ fn a_conditional_jump_s_condition_is_told_as_its_condition() {
     let rows = kind_rows(a, &b, "heidenhain");
     let condition: Vec<&String> = rows.iter().filter(|r| r.starts_with("flow_changed | condition")).collect();
     assert_eq!(condition.len(), 1, "{rows:#?}");
-    assert!(condition[0].ends_with("| FN 9: IF +Q1 EQU0 GOTO LBL5 | FN 9: IF +Q2 EQU1 GOTO LBL5"), "{rows:#?}");
+    assert!(condition[0].ends_with("| FN 9: IF +Q1 EQU 0 GOTO LBL5 | FN 9: IF +Q2 EQU 1 GOTO LBL5"), "{rows:#?}");
 }
 
 #[test]
