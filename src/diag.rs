@@ -261,6 +261,14 @@ codes! {
     CompGouge = ("interp::comp-gouge", Error),
     /// Cutter radius compensation without a known offset.
     CompWithoutOffset = ("interp::comp-without-offset", Warning),
+    /// A plane code (G17–G19) that changes the plane while cutter radius compensation is on,
+    /// on a control that stops at it (the dictionary's `modes-under-comp="locked"`: RS274/NGC,
+    /// LinuxCNC "Cannot change planes with cutter radius compensation on").
+    PlaneUnderComp = ("interp::plane-under-comp", Error),
+    /// A plane code that changes the plane while cutter radius compensation is on, on a
+    /// control whose dictionary does not say it stops there: what the control does is not
+    /// known (Fanuc stops with alarm PS0037 on its own dictionary's word only).
+    PlaneUnderCompUnknown = ("interp::plane-under-comp-unknown", Warning),
     /// A program that cuts without a tool change, with one tool in its header's tool list:
     /// that tool is taken as the one in the spindle.
     ToolFromList = ("plan::tool-from-list", Note),

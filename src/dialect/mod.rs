@@ -566,6 +566,9 @@ pub struct Macros {
     /// System variable arrays a program writes a tool's offset data through (Siemens
     /// `$TC_DP3[t,d]`, the length), upper case, and which data each is.
     pub tool_data: Vec<(String, DataForm)>,
+    /// The columns of a tool table the program reads and writes as system data by number
+    /// (Heidenhain `FN 17: SYSWRITE ID50 NR1 IDX5 = +0`: group 50, column 1, tool 5).
+    pub tool_columns: Vec<ToolColumn>,
     /// Deepest allowed nesting of calls.
     pub call_depth: u32,
     /// Whether digits above the fourth of a subprogram call's P are its repeat count
@@ -699,8 +702,26 @@ impl Default for Macros {
             return_value: None,
             machine_functions: Vec::new(),
             tool_data: Vec::new(),
+            tool_columns: Vec::new(),
         }
     }
+}
+
+/// A tool table's column as system data by number: its group (`ID50`, the tool table), its
+/// number in it (`NR1`), its name in the table (`L`), what it holds as a planner reads it
+/// (`tool length`) and, for a length or radius, which (the kind of change its write makes).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolColumn {
+    /// The system data group (`ID50`).
+    pub id: u32,
+    /// The column's number in the group (`NR1`).
+    pub nr: u32,
+    /// Its name in the tool table (`L`, `DR`, `TIME1`).
+    pub name: String,
+    /// What it holds (`tool length`).
+    pub what: String,
+    /// The tool length or radius it is, if it is one.
+    pub form: Option<DataForm>,
 }
 
 impl Macros {

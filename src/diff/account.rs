@@ -58,6 +58,9 @@ struct Item {
     /// those that stand before the jump keyword, its condition
     /// ([`control::jump_target_tokens`]); both empty where no statement jumps.
     jump_words: (Vec<String>, Vec<String>),
+    /// Its statements' tokens whole, the original's and the edited one's (empty for a side
+    /// that has none): a statement told from all its words (a tool table's column written).
+    tokens: (Vec<Token>, Vec<Token>),
 }
 
 /// A hunk too large to tell statement by statement.
@@ -744,7 +747,9 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
                 jump_words.0.extend(target.iter().map(|t| t.text.clone()));
                 jump_words.1.extend(t[..t.len() - target.len()].iter().filter(|_| !target.is_empty()).map(|t| t.text.clone()));
             }
+            let tokens = (x.map(|x| ta[x].clone()).unwrap_or_default(), y.map(|y| tb[y].clone()).unwrap_or_default());
             items.push(Item {
+                tokens,
                 jump_words,
                 calls,
                 original: oi,
@@ -1299,6 +1304,13 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
         if field.ends_with("condition") {
             (c.before, c.after) = (spaced(&c.before), spaced(&c.after));
         }
+        // A conditional jump's condition changed (Heidenhain `FN 9: IF +Q3 EQU +0 GOTO LBL 1`,
+        // `IF [#1 LT 6] GOTO 10`): the whole condition and its target on each side, left,
+        // relation, right and label, not the one word that differs.
+        if field.contains("condition") && !whole && !it.jump_words.0.is_empty() && !argument {
+            let text = |t: &[Token]| spaced(&t.iter().map(|t| readable(&t.text, d)).collect::<Vec<_>>().join(" "));
+            (c.before, c.after) = (text(&it.tokens.0), text(&it.tokens.1));
+        }
         if !argument && whole && c.before.is_empty() && c.after.is_empty() {
             c.after = "statement".into();
         }
@@ -1384,6 +1396,8 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
     let mut out = Vec::new();
     let (kinds, told) = if it.located || kind != ChangeKind::StatementChanged {
         (Vec::new(), vec![false; it.diffs.len()])
+    } else if let Some(t) = typed::tool_column(&it.tokens.0, &it.tokens.1, it.ctx.function_keyword, d) {
+        (vec![t], vec![true; it.diffs.len()])
     } else {
         typed::typed(&it.diffs, it.ctx, d)
     };
@@ -1464,11 +1478,61 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
         && let Some(flow) = it.ctx.flow
     {
         flow_changes(&mut out, it, flow, d);
+        // A condition told whole once, however many of its words differ.
+        let mut seen: Vec<(String, String, String)> = Vec::new();
+        out.retain(|c| {
+            if c.kind != ChangeKind::FlowChanged {
+                return true;
+            }
+            let key = (c.field.clone(), c.before.clone(), c.after.clone());
+            let new = !seen.contains(&key);
+            seen.push(key);
+            new
+        });
     }
     for c in &mut out {
         (c.original_line, c.line) = (lo, le);
         c.detail.at = vec![(lo, le)];
     }
+    out
+}
+
+/// A word of a statement as a planner reads it: a parameter function's number apart from its
+/// letters and keyword (`FN11:IF+Q11` → `FN 11: IF +Q11`), a statement keyword of the
+/// dictionary apart from the operand written against it.
+fn readable(t: &str, d: &Dialect) -> String {
+    let mut out = String::new();
+    let mut rest = t;
+    let letters = t.bytes().take_while(u8::is_ascii_alphabetic).count();
+    let digits = t[letters..].bytes().take_while(u8::is_ascii_digit).count();
+    if letters > 0 && digits > 0 && t[letters + digits..].starts_with(':') {
+        out.push_str(&format!("{} {}: ", &t[..letters], &t[letters..letters + digits]));
+        rest = &t[letters + digits + 1..];
+    }
+    let keyword = d.macros.statements.iter().map(|(k, _)| k.as_str()).filter(|k| !k.contains(' ')).find(|k| {
+        rest.len() > k.len()
+            && rest.is_char_boundary(k.len())
+            && rest[..k.len()].eq_ignore_ascii_case(k)
+            && !rest[k.len()..].starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_' || c == ' ')
+    });
+    if let Some(k) = keyword {
+        out.push_str(&rest[..k.len()]);
+        out.push(' ');
+        rest = &rest[k.len()..];
+    }
+    // A word operator written against the number after it (`EQU0`, the statement's spelling
+    // of `EQU +0`): the relation apart from its operand.
+    let word = rest.bytes().take_while(u8::is_ascii_alphabetic).count();
+    if word > 0
+        && word < rest.len()
+        && crate::syntax::BinOp::named(&rest[..word].to_ascii_uppercase()).is_some()
+        && rest[word..].starts_with(|c: char| c.is_ascii_digit() || matches!(c, '.' | '+' | '-'))
+    {
+        out.push_str(&rest[..word]);
+        out.push(' ');
+        rest = &rest[word..];
+    }
+    out.push_str(rest);
     out
 }
 

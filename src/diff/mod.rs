@@ -192,6 +192,11 @@ pub enum ChangeKind {
     /// `probe-programs` and `probe="true"`: Renishaw `G65 P9810`, Siemens `CYCLE977`,
     /// Heidenhain `TCH PROBE`) target, feed, cycle or parameter.
     ProbingChanged,
+    /// A tool table's entry the program writes (Heidenhain `FN 17: SYSWRITE ID50 NR9 IDX5 =
+    /// +30`) other than a length or radius, which are length-offset and cutter-compensation
+    /// changes: a tool life, the number of teeth, a wear or break tolerance, a column the
+    /// dictionary does not name; with the column, the tool and the values.
+    ToolDataChanged,
 }
 
 impl ChangeKind {
@@ -245,6 +250,7 @@ impl ChangeKind {
             ChangeKind::MachineFunctionChanged => "machine_function_changed",
             ChangeKind::GlobalVariableChanged => "global_variable_changed",
             ChangeKind::ProbingChanged => "probing_changed",
+            ChangeKind::ToolDataChanged => "tool_data_changed",
         }
     }
 }
@@ -328,6 +334,9 @@ impl Change {
             None => self.field.replace('_', " "),
         };
         let at = |l: Option<u32>| l.map_or(String::new(), |l| format!(" at line {l}"));
+        if let Some(s) = self.tool_table_phrase(&field) {
+            return s;
+        }
         let core = match self.kind {
             ChangeKind::ToolRenamed if !self.before.is_empty() && !self.after.is_empty() => {
                 format!("tool {} renamed {}", self.before, self.after)
@@ -458,6 +467,24 @@ impl Change {
             _ => format!("{field} changed from {} to {}", self.before, self.after),
         };
         format!("{core}{}", self.located())
+    }
+
+    /// A tool table's entry written or read as system data (`FN 17: SYSWRITE ID50 NR1 IDX5 =
+    /// +0`, `FN 18: SYSREAD Q1 = ID50 NR1 IDX5`), where the change is one.
+    fn tool_table_phrase(&self, field: &str) -> Option<String> {
+        let read = self.kind == ChangeKind::StatementChanged
+            && (self.field.contains(" read from tool table ") || self.field.starts_with("read from tool table "));
+        let written = matches!(self.kind, ChangeKind::ToolDataChanged | ChangeKind::LengthOffsetChanged | ChangeKind::CutterCompChanged)
+            && self.field.starts_with("tool table ");
+        let core = match (self.before.is_empty(), self.after.is_empty()) {
+            _ if !read && !written => return None,
+            (true, _) if read => format!("{field} added"),
+            (_, true) if read => format!("{field} removed"),
+            (true, _) => format!("{field} set to {}", self.after),
+            (_, true) => format!("{field} no longer set (was {})", self.before),
+            _ => format!("{field} changed from {} to {}", self.before, self.after),
+        };
+        Some(format!("{core}{}", self.located()))
     }
 
     /// Where a located plan change is seen: ` at line 12`, ` at lines 12, 18 and 24`,
@@ -841,8 +868,13 @@ fn similarity(pa: &ProcessPlan, a: &Workingstep, pb: &ProcessPlan, b: &Workingst
     s += 0.4
         * match (a.bbox, b.bbox) {
             (Some(x), Some(y)) => {
-                let inter: f64 = (0..2).map(|i| (x.max[i].min(y.max[i]) - x.min[i].max(y.min[i])).max(0.0)).product();
-                let area = |bb: crate::plan::BBox| (0..2).map(|i| (bb.max[i] - bb.min[i]).max(1e-3)).product::<f64>();
+                // The plane the two spread over: XY, or XZ where neither leaves Y = 0 and one
+                // spreads along Z (a lathe's turning, whose Y is always 0: in XY no two of its
+                // workingsteps would ever overlap).
+                let flat = |bb: crate::plan::BBox, i: usize| bb.max[i] - bb.min[i] <= 1e-9;
+                let axes = if flat(x, 1) && flat(y, 1) && x.min[1] == y.min[1] && !(flat(x, 2) && flat(y, 2)) { [0, 2] } else { [0, 1] };
+                let inter: f64 = axes.iter().map(|&i| (x.max[i].min(y.max[i]) - x.min[i].max(y.min[i])).max(0.0)).product();
+                let area = |bb: crate::plan::BBox| axes.iter().map(|&i| (bb.max[i] - bb.min[i]).max(1e-3)).product::<f64>();
                 let union = area(x) + area(y) - inter;
                 if union > 0.0 { inter / union } else { 0.0 }
             }

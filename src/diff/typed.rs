@@ -745,6 +745,95 @@ fn parameter_function(diffs: &[(Option<Token>, Option<Token>)], code: Option<usi
     Some(Typed { kind, field, before: side(false), after: side(true) })
 }
 
+/// A parameter function that writes or reads a tool table's column as system data by number
+/// (Heidenhain `FN 17: SYSWRITE ID50 NR1 IDXQ2 = +0`, `FN 18: SYSREAD Q1601 = ID50 NR1 IDXQ1`:
+/// group 50, the tool table, column NR of tool IDX; the dictionary's `tool-column`), told as
+/// that column's change from the statements whole (`a`, `b`: each side's tokens, empty where
+/// the statement is only on the other side): a write of a length or radius is the tool's
+/// length offset or cutter compensation changed, any other column's the tool data changed,
+/// with the column, the tool and the values; a read is the parameter it sets, named by what
+/// it reads (a statement change: reading changes nothing on the machine).
+pub(super) fn tool_column(a: &[Token], b: &[Token], code: Option<usize>, d: &Dialect) -> Option<Typed> {
+    let (_, spec) = d.keyword_codes().find(|&(i, _)| Some(i) == code)?;
+    if d.macros.tool_columns.is_empty() {
+        return None;
+    }
+    let read = d.codes[code?].meaning == crate::dialect::Meaning::MachineDataRead;
+    let keyword = spec.text.split(' ').next()?.to_ascii_uppercase();
+    // `ID50 NR1 IDXQ2 = 0` (a write) or `Q1601 = ID50 NR1 IDXQ1` (a read): the group, the
+    // column, the tool and the value written or the parameter read into.
+    let parse = |t: &[Token]| -> Option<(u32, u32, String, String)> {
+        let text: String = t.iter().map(|t| t.text.as_str()).collect::<String>().split_whitespace().collect();
+        let at = text.to_ascii_uppercase().find(&keyword)? + keyword.len();
+        let rest = &text[at..];
+        let (target, other) = if read {
+            let (param, target) = rest.split_once('=')?;
+            (target, param)
+        } else {
+            rest.split_once('=')?
+        };
+        let up = target.to_ascii_uppercase();
+        let digits = |s: &str| -> Option<(u32, usize)> {
+            let n = s.bytes().take_while(u8::is_ascii_digit).count();
+            Some((s[..n].parse().ok()?, n))
+        };
+        let after_id = up.strip_prefix("ID")?;
+        let (group, n) = digits(after_id)?;
+        let after_nr = after_id[n..].strip_prefix("NR")?;
+        let (nr, n) = digits(after_nr)?;
+        let idx_at = target.len() - after_nr[n..].len();
+        let idx = match up[idx_at..].strip_prefix("IDX") {
+            Some(_) => target[idx_at + 3..].to_owned(),
+            None if idx_at == target.len() => String::new(),
+            None => return None,
+        };
+        Some((group, nr, idx, other.to_owned()))
+    };
+    let (pa, pb) = (if a.is_empty() { None } else { Some(parse(a)?) }, if b.is_empty() { None } else { Some(parse(b)?) });
+    let (group, nr, idx, _) = pb.clone().or(pa.clone())?;
+    let column = |g: u32, nr: u32| d.macros.tool_columns.iter().find(|c| c.id == g && c.nr == nr);
+    if !d.macros.tool_columns.iter().any(|c| c.id == group) {
+        return None;
+    }
+    let col = column(group, nr);
+    let of_tool = if idx.is_empty() { String::new() } else { format!(" of tool {idx}") };
+    let named = col.map_or_else(
+        || format!("tool table column NR{nr} (ID{group}){of_tool}"),
+        |c| format!("tool table {} ({}, ID{group} NR{nr}){of_tool}", c.name, c.what),
+    );
+    // Both sides write the same entry: its values; else each side's entry and value.
+    let same = pa.as_ref().zip(pb.as_ref()).is_none_or(|(x, y)| (x.0, x.1, &x.2) == (y.0, y.1, &y.2));
+    let side = |p: &Option<(u32, u32, String, String)>| {
+        p.as_ref().map_or_else(String::new, |(g, nr, idx, v)| {
+            if same {
+                v.clone()
+            } else if read {
+                format!("{v} = ID{g} NR{nr} IDX{idx}")
+            } else {
+                format!("ID{g} NR{nr} IDX{idx} = {v}")
+            }
+        })
+    };
+    let (before, after) = (side(&pa), side(&pb));
+    if read {
+        // `Q1600 read from tool table column NR0 (ID50) of tool Q1`, added or removed.
+        let (field, before, after) = if same {
+            let param = &pb.as_ref().or(pa.as_ref())?.3;
+            let mark = |p: &Option<(u32, u32, String, String)>| p.as_ref().map_or_else(String::new, |_| "read".to_owned());
+            (format!("{param} read from {named}"), mark(&pa), mark(&pb))
+        } else {
+            (format!("read from {named}"), before, after)
+        };
+        return Some(Typed { kind: ChangeKind::StatementChanged, field, before, after });
+    }
+    let kind = match col.and_then(|c| c.form) {
+        Some(DataForm::ToolLength | DataForm::ToolLengthWear) => ChangeKind::LengthOffsetChanged,
+        Some(DataForm::ToolRadius | DataForm::ToolRadiusWear) => ChangeKind::CutterCompChanged,
+        _ => ChangeKind::ToolDataChanged,
+    };
+    Some(Typed { kind, field: named, before, after })
+}
+
 /// A statement added or removed whole that a keyword code begins (`TOOL CALL 5 Z S3000`):
 /// one change of that code's kind, with the statement's words.
 fn whole_statement(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> Option<Typed> {

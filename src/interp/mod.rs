@@ -666,6 +666,9 @@ struct State {
     angle_line: Option<(f64, TextRange)>,
     /// Cutter compensation has just ended: the next move leaves the compensated path.
     leaving_comp: bool,
+    /// Cutter radius compensation is on (G41/G42 until G40 or the program's end): a plane
+    /// code that changes the plane then stops a control whose dictionary locks the modes.
+    comp_on: bool,
     /// Lathe diameter mode (G7): X words give diameters.
     diameter: bool,
     /// With `diameter`, only absolute X words give diameters; incremental ones radii
@@ -789,6 +792,7 @@ impl State {
             blank_min: None,
             angle_line: None,
             leaving_comp: false,
+            comp_on: false,
             diameter: (dialect.behaviour.x_diameter || profile.lathe_reset) && !profile.x_radius,
             diameter_absolute: false,
             round_modal: None,

@@ -1538,6 +1538,57 @@ fn a_conditional_jump_s_condition_is_told_as_its_condition() {
     let b = a.replace("GOTO LBL 5", "GOTO LBL 6");
     let rows = kind_rows(a, &b, "heidenhain");
     assert!(rows.iter().any(|r| r.starts_with("flow_changed | jump target")), "{rows:#?}");
+    // The condition is told whole, left, relation, right and label, once: not the one word
+    // that differs.
+    let b = a.replace("FN 9: IF +Q1 EQU +0 GOTO LBL 5", "FN 9: IF +Q2 EQU +1 GOTO LBL 5");
+    let rows = kind_rows(a, &b, "heidenhain");
+    let condition: Vec<&String> = rows.iter().filter(|r| r.starts_with("flow_changed | condition")).collect();
+    assert_eq!(condition.len(), 1, "{rows:#?}");
+    assert!(condition[0].ends_with("| FN 9: IF +Q1 EQU 0 GOTO LBL5 | FN 9: IF +Q2 EQU 1 GOTO LBL5"), "{rows:#?}");
+}
+
+#[test]
+fn a_tool_table_write_is_the_tool_s_data_changed() {
+    // Heidenhain FN 17: SYSWRITE ID50 writes the tool table (the TNC technical manuals' system
+    // data group 50: NR the column, IDX the tool): a length or radius is the tool's offset,
+    // another column the tool data, with the column's name, the tool and the values.
+    let a = "0 BEGIN PGM T MM\n1 FN 0: Q1 = +5\n2 FN 17: SYSWRITE ID50 NR1 IDXQ1 = +0 ; L\n3 FN 17: SYSWRITE ID50 NR9 IDX5 = +30\n4 END PGM T MM\n";
+    let b = a.replace("NR1 IDXQ1 = +0", "NR1 IDXQ1 = +12.5").replace("NR9 IDX5 = +30", "NR9 IDX5 = +45");
+    let rows = kind_rows(a, &b, "heidenhain");
+    assert!(rows.contains(&"length_offset_changed | tool table L (tool length, ID50 NR1) of tool Q1 | 0 | 12.5".to_owned()), "{rows:#?}");
+    assert!(
+        rows.contains(&"tool_data_changed | tool table TIME1 (maximum tool age, ID50 NR9) of tool 5 | 30 | 45".to_owned()),
+        "{rows:#?}"
+    );
+    // Radius, added whole; a column the dictionary does not name is still the tool table's.
+    let b = a.replace("4 END", "4 FN 17: SYSWRITE ID50 NR2 IDX5 = +3\n5 FN 17: SYSWRITE ID50 NR36 IDX5 = +0\n6 END");
+    let rows = kind_rows(a, &b, "heidenhain");
+    assert!(rows.contains(&"cutter_comp_changed | tool table R (tool radius, ID50 NR2) of tool 5 |  | 3".to_owned()), "{rows:#?}");
+    assert!(rows.contains(&"tool_data_changed | tool table column NR36 (ID50) of tool 5 |  | 0".to_owned()), "{rows:#?}");
+    // A read of the table is no change of it: the parameter it sets, named by what it reads.
+    let b = a.replace("4 END", "4 FN 18: SYSREAD Q1600 = ID50 NR1 IDX5\n5 END");
+    let rows = kind_rows(a, &b, "heidenhain");
+    assert_eq!(rows, ["statement_changed | Q1600 read from tool table L (tool length, ID50 NR1) of tool 5 |  | read"], "{rows:#?}");
+    // Other system data stays the machine function it is.
+    let b = a.replace("4 END", "4 FN 17: SYSWRITE ID990 NR6 IDX0 = +1\n5 END");
+    let rows = kind_rows(a, &b, "heidenhain");
+    assert!(rows.iter().all(|r| r.starts_with("machine_function_changed")), "{rows:#?}");
+}
+
+#[test]
+fn a_plane_changed_under_cutter_compensation_breaks_the_program_where_the_control_stops() {
+    // LinuxCNC: "Cannot change planes with cutter radius compensation on" (`rs274 -g`; the
+    // same plane again runs); the dictionary's `modes-under-comp="locked"`.
+    let a = "G21 G17 G90\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG41 D1 G1 X10 Y0\nG17\nG1 X20\nG40 G0 Z5\nM30\n";
+    let b = a.replace("G17\nG1 X20", "G18\nG1 X20");
+    let rows = |dialect: &str| -> Vec<String> {
+        changes_with_findings(a, &b, dialect).iter().map(|c| format!("{} | {} | {}", c.kind.as_str(), c.field, c.after)).collect()
+    };
+    let got = rows("linuxcnc");
+    assert!(got.iter().any(|r| r.starts_with("program_broken | interp::plane-under-comp")), "{got:#?}");
+    // A control whose dictionary does not say it stops: a warning, no verdict.
+    let got = rows("haas");
+    assert!(!got.iter().any(|r| r.starts_with("program_broken")), "{got:#?}");
 }
 
 /// A LinuxCNC program that turns compensation off, then changes the plane or the units.

@@ -45,7 +45,7 @@ impl Cx {
     /// `<macros>`: its attributes, then its statements, argument letters and system variables
     /// in document order. Statements are kept longest keyword first.
     pub(super) fn macros(&mut self, el: &Element) -> Macros {
-        self.shape(el, ATTRIBUTES, &["statement", "arguments", "system-variable", "tool-data"]);
+        self.shape(el, ATTRIBUTES, &["statement", "arguments", "system-variable", "tool-data", "tool-column"]);
         let mut m = Macros {
             null_value: self.bool(el, "null-value", false),
             repeat_in_p: self.bool(el, "repeat-in-p", false),
@@ -94,6 +94,7 @@ impl Cx {
                 "statement" => self.statement_def(c, &mut m),
                 "arguments" => self.argument_letters(c, &mut m),
                 "tool-data" => self.tool_data(c, &mut m),
+                "tool-column" => self.tool_column(c, &mut m),
                 _ if self.attr(c, "name").is_some() => self.named_system_variable(c, &mut m),
                 _ => self.numbered_system_variable(c, &mut m),
             }
@@ -284,6 +285,40 @@ impl Cx {
             ) => m.tool_data.push((name.trim().to_ascii_uppercase(), f)),
             _ => self.error(Self::attr_range(c, "form"), format!("`{form}` is not a tool's length or radius")),
         }
+    }
+
+    /// `<tool-column group="50" nr="1" name="L" what="tool length" form="tool-length"/>`: a tool
+    /// table's column the program reads and writes as system data by number, and, for a
+    /// length or radius, which.
+    fn tool_column(&mut self, c: &Element, m: &mut Macros) {
+        self.shape(c, &["group", "nr", "name", "what", "form"], &[]);
+        let (Some(id), Some(nr), Some(name), Some(what)) =
+            (self.required(c, "group"), self.required(c, "nr"), self.required(c, "name"), self.required(c, "what"))
+        else {
+            return;
+        };
+        let (Ok(id), Ok(nr)) = (id.trim().parse::<u32>(), nr.trim().parse::<u32>()) else {
+            self.error(Self::attr_range(c, "nr"), "`group` and `nr` must be numbers");
+            return;
+        };
+        let form = match self.attr(c, "form").map(|f| (f, crate::dialect::DataForm::parse(f))) {
+            None => None,
+            Some((
+                _,
+                Some(
+                    f @ (crate::dialect::DataForm::ToolLength
+                    | crate::dialect::DataForm::ToolLengthWear
+                    | crate::dialect::DataForm::ToolRadius
+                    | crate::dialect::DataForm::ToolRadiusWear),
+                ),
+            )) => Some(f),
+            Some((f, _)) => {
+                self.error(Self::attr_range(c, "form"), format!("`{f}` is not a tool's length or radius"));
+                return;
+            }
+        };
+        let (name, what) = (name.trim().to_owned(), what.trim().to_owned());
+        m.tool_columns.push(crate::dialect::ToolColumn { id, nr, name, what, form });
     }
 
     /// `<system-variable number="5061" meaning="..."/>`: a system variable by number.

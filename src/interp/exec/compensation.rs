@@ -15,6 +15,7 @@ impl Interpreter<'_> {
     pub(super) fn comp_off_code(&mut self, sink: &mut dyn CanonSink) {
         self.emit(sink, CanonOp::Setting(Setting::CutterComp(None)));
         self.st.leaving_comp = self.comp.borrow().is_some();
+        self.st.comp_on = false;
         self.comp_off(sink);
     }
 
@@ -32,6 +33,7 @@ impl Interpreter<'_> {
         let radius = radius.map(f64::abs);
         let side = if left { comp::Side::Left } else { comp::Side::Right };
         self.st.comp_left = left;
+        self.st.comp_on = true;
         let number = self.slot(Role::D).filter(|_| !by_diameter).map(|d| d as u32);
         // A lathe tool's tip as the block states it (`G42.1 D0.8 L3`).
         let tip = self.slot(Role::L).filter(|l| by_diameter && l.fract() == 0.0 && (1.0..=9.0).contains(l)).map(|l| l as u8);

@@ -124,7 +124,7 @@ impl Interpreter<'_> {
             Meaning::SpindleOrient => self.orient_spindle(def, range, sink, diags),
             Meaning::CoolantMist | Meaning::CoolantFlood | Meaning::CoolantOff => self.coolant(def, sink),
             Meaning::Dwell => self.dwell(def, sink),
-            Meaning::PlaneXy | Meaning::PlaneXz | Meaning::PlaneYz => self.plane(def, sink),
+            Meaning::PlaneXy | Meaning::PlaneXz | Meaning::PlaneYz => self.plane(def, range, sink, diags),
             Meaning::UnitsInch | Meaning::UnitsMm => self.units(def, sink),
             Meaning::CompOff => self.comp_off_code(sink),
             Meaning::CompLeft | Meaning::CompRight | Meaning::CompLeftDiameter | Meaning::CompRightDiameter => {

@@ -7,17 +7,34 @@
 //! [`Interpreter::retract_mode`], and [`Interpreter::set_units`] for the saved modes.
 
 use crate::canon::{CanonOp, CanonSink, DistanceMode, Plane, Units};
+use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning};
 use crate::interp::{Interpreter, Retract};
+use crate::text::TextRange;
 
 impl Interpreter<'_> {
-    /// G17, G18, G19: the plane of arcs, compensation and cycles.
-    pub(super) fn plane(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
+    /// G17, G18, G19: the plane of arcs, compensation and cycles. Another plane while cutter
+    /// radius compensation is on stops a control whose dictionary locks the modes under it
+    /// (`modes-under-comp="locked"`: LinuxCNC "Cannot change planes with cutter radius
+    /// compensation on"; the same plane again runs, as `rs274` shows); elsewhere it is a
+    /// warning, the control's behaviour not being in its dictionary. The plane is taken either way.
+    pub(super) fn plane(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let plane = match def.meaning {
             Meaning::PlaneXy => Plane::Xy,
             Meaning::PlaneXz => Plane::Xz,
             _ => Plane::Yz,
         };
+        if self.st.comp_on && plane != self.st.plane && self.st.cylinder.is_none() {
+            let (code, what) = if self.dialect.behaviour.comp_locks_modes {
+                (Code::PlaneUnderComp, "the control stops: cannot change planes with cutter radius compensation on")
+            } else {
+                (
+                    Code::PlaneUnderCompUnknown,
+                    "the plane changes with cutter radius compensation on; whether the control runs it is not known",
+                )
+            };
+            self.limited(diags, "plane-under-comp", Diagnostic::new(code, range, format!("{}: {what}", def.label())));
+        }
         // Under cylindrical interpolation the moves stay on the developed surface (its XY):
         // the plane code (G19, the cylinder's plane) is the one the mode's end gives back.
         if self.st.cylinder.is_some() {

@@ -57,6 +57,7 @@ impl Interpreter<'_> {
     /// the modes go back to the control's defaults, and the program ends.
     pub(in crate::interp) fn program_end(&mut self, sink: &mut dyn CanonSink) {
         self.comp_off(sink);
+        self.st.comp_on = false;
         self.st.wcs = 1;
         self.emit(sink, CanonOp::SetG5xOffset(1, self.st.wcs_offsets[0]));
         let initial = if self.profile.lathe_reset { crate::canon::Plane::Xz } else { self.dialect.behaviour.initial_plane };
