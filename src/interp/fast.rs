@@ -93,7 +93,8 @@ impl Interpreter<'_> {
     /// Whether the state lets a block be a plain move at all: no modal cycle or macro, no
     /// message waiting for a stop, no diameter programming, no modal rounding (`RNDM`), no NURBS curve under way, no
     /// face (`TRANSMIT`, `G12.1`) or cylinder (`TRACYL`, `G7.1`) interpolation, whose words
-    /// are not the machine's axes (`face_plane` is set under both).
+    /// are not the machine's axes (`face_plane` is set under both), no polar coordinate
+    /// command (Fanuc `G16`: X and Y are a radius and an angle).
     #[inline(always)]
     fn plain_state(&self) -> bool {
         !(self.st.cycle_modal
@@ -103,6 +104,7 @@ impl Interpreter<'_> {
             || self.st.round_modal.is_some()
             || self.st.face_plane.is_some()
             || self.st.tcp
+            || self.st.polar_command
             || self.st.nurbs.is_some())
     }
 

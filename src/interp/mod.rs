@@ -644,6 +644,9 @@ struct State {
     feed_per_rev: bool,
     /// The circle centre / pole in the plane's two axes (`CC X Y`), program coordinates.
     pole: (f64, f64),
+    /// The polar coordinate command in force (Fanuc `G16`, off by `G15`): a move's first
+    /// axis word of the plane is a radius, the second an angle, about the work origin.
+    polar_command: bool,
     /// The plane of the pole when its block named the two axes of another plane than the
     /// active one (Heidenhain `CC Y+0.2 Z-0.2` with tool axis Z): the arcs about it (`C`, `CP`)
     /// run in that plane.
@@ -776,6 +779,7 @@ impl State {
             scale_set: None,
             mirror: [None; 3],
             pole: (0.0, 0.0),
+            polar_command: false,
             pole_plane: None,
             arc_cw: true,
             defined_cycle: None,

@@ -191,9 +191,19 @@ impl Interpreter<'_> {
             | Meaning::TiltRelative
             | Meaning::TiltReset => self.tilt_code(def, range, block, sink, diags),
             Meaning::Scaling | Meaning::ScalingCancel => self.scaling_code(def, range, block, diags),
-            Meaning::Home1 | Meaning::Home2 | Meaning::Home1Set | Meaning::Home2Set => self.home_code(def, sink),
-            // G53: the block's move is in machine coordinates; the motion step reads it.
-            Meaning::MachineCoords => {}
+            Meaning::Home1
+            | Meaning::Home2
+            | Meaning::Home1Set
+            | Meaning::Home2Set
+            | Meaning::ReferenceApproach
+            | Meaning::FixedPointApproach => self.home_code(def, sink),
+            // G53, M91, M92: the block's move is in machine (or machine-builder) coordinates;
+            // the motion step reads it.
+            Meaning::MachineCoords | Meaning::MachineBuilderCoords => {}
+            // Fanuc G16 / G15: the words of the moves that follow are read as polar ones
+            // (`polar_roles`).
+            Meaning::Polar => self.st.polar_command = true,
+            Meaning::PolarOff => self.st.polar_command = false,
             Meaning::Rapid
             | Meaning::Linear
             | Meaning::ArcCw
