@@ -258,7 +258,9 @@ impl Trace {
                 self.machine = Some((kind, axes, left - 1));
             } else {
                 // The machine's frame: which position, not the numbers the analysis gave it.
-                let at = std::array::from_fn(|k| axes[k].map_or(f64::NAN, |v| if matches!(kind, Kind::Machine | Kind::Builder) { v * self.scale } else { 0.0 }));
+                let at = std::array::from_fn(|k| {
+                    axes[k].map_or(f64::NAN, |v| if matches!(kind, Kind::Machine | Kind::Builder) { v * self.scale } else { 0.0 })
+                });
                 self.push(kind, at, line);
                 self.chain.clear();
                 self.pos = to;

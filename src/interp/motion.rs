@@ -233,11 +233,10 @@ impl Interpreter<'_> {
         // A block of a rapid code (`FMAX`), or in machine coordinates on a control whose G53
         // always positions at rapid traverse (`machine-coords-rapid`), moves at rapid whatever
         // the motion mode in force.
-        let rapid_of =
-            |m: Meaning| {
-                m == Meaning::RapidBlock
-                    || (matches!(m, Meaning::MachineCoords | Meaning::MachineBuilderCoords) && self.dialect.behaviour.machine_coords_rapid)
-            };
+        let rapid_of = |m: Meaning| {
+            m == Meaning::RapidBlock
+                || (matches!(m, Meaning::MachineCoords | Meaning::MachineBuilderCoords) && self.dialect.behaviour.machine_coords_rapid)
+        };
         let rapid_block = !self.codes.is_empty() && self.codes.iter().any(|&(c, _)| rapid_of(self.code(c).meaning));
         let arc = matches!(
             def.meaning,

@@ -347,9 +347,8 @@ impl Interpreter<'_> {
                         // global variable): a translation refuses rather than drop the word
                         // or write a made-up value.
                         let shown = block.text(w.range).to_owned();
-                        let msg = format!(
-                            "`{shown}` reads {what}: where this move goes is not known here, so a translation cannot write it"
-                        );
+                        let msg =
+                            format!("`{shown}` reads {what}: where this move goes is not known here, so a translation cannot write it");
                         self.limited(diags, "motion-unknown", Diagnostic::new(Code::MotionUnknown, w.range, msg));
                     }
                     return true;

@@ -455,8 +455,7 @@ fn writes(d: &crate::dialect::Dialect) -> bool {
 
 /// The dialects a program can be written in: those with output rules, by name.
 pub(crate) fn writable(registry: &crate::dialect::Registry) -> Vec<String> {
-    let mut names: Vec<String> =
-        registry.names().filter(|n| registry.get(n).is_some_and(|d| writes(&d))).map(str::to_owned).collect();
+    let mut names: Vec<String> = registry.names().filter(|n| registry.get(n).is_some_and(|d| writes(&d))).map(str::to_owned).collect();
     names.sort();
     names
 }

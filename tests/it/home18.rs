@@ -96,7 +96,8 @@ fn fanuc_g30_p3_is_the_third_reference_position_not_the_second() {
     assert_eq!(markers(&c)[0].0, MachineTarget::Reference(2));
 }
 
-const M92: &str = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+10 Y+10 Z+5 R0 FMAX M3\n3 L Z+50 R0 FMAX M92\n4 L X+0 Y+0 FMAX\n5 END PGM T MM\n";
+const M92: &str =
+    "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+10 Y+10 Z+5 R0 FMAX M3\n3 L Z+50 R0 FMAX M92\n4 L X+0 Y+0 FMAX\n5 END PGM T MM\n";
 
 #[test]
 fn heidenhain_m92_is_the_machine_builders_datum_not_g53() {

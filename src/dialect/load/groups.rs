@@ -128,9 +128,9 @@ impl Cx {
             _ => None,
         };
         // Centroid `M25`: the axes a reference approach without axis words sends home.
-        let home_axes = self.attr(c, "home-axes").map_or(0, |list| {
-            list.chars().filter_map(|ch| "XYZABC".find(ch.to_ascii_uppercase())).fold(0u8, |m, k| m | 1 << k)
-        });
+        let home_axes = self
+            .attr(c, "home-axes")
+            .map_or(0, |list| list.chars().filter_map(|ch| "XYZABC".find(ch.to_ascii_uppercase())).fold(0u8, |m, k| m | 1 << k));
         // Haas's live-tool cycles: R is the R plane's position (a diameter for a radial
         // hole), not Fanuc's distance from the initial level.
         let r_absolute = self.attr(c, "r-level") == Some("absolute");
