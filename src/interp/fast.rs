@@ -42,6 +42,10 @@ impl Interpreter<'_> {
         if !self.plain_state() {
             return false;
         }
+        // `X1=10` (a machine axis name): the general way says it.
+        if self.machine_axis_names && block.words.iter().any(|w| numbered_axis(block.text(w.range).as_bytes())) {
+            return false;
+        }
         let exprs = !block.exprs.is_empty();
         if exprs && !self.plain_expressions(block) {
             return false;
@@ -321,4 +325,10 @@ fn plain_code(d: &Dialect, c: usize) -> bool {
 /// straight move: the code is one ([`plain_code`]) and gives no word another role.
 pub(super) fn straight_keyword(d: &Dialect, c: usize) -> bool {
     d.codes[c].args.is_empty() && plain_code(d, c)
+}
+
+/// `X1=10`: a letter, one or two digits, then `=` (not `X10`, not `X=10`).
+fn numbered_axis(t: &[u8]) -> bool {
+    let digits = t.iter().skip(1).take_while(|c| c.is_ascii_digit()).count();
+    (1..=2).contains(&digits) && t.get(1 + digits) == Some(&b'=')
 }

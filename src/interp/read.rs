@@ -326,6 +326,7 @@ impl Interpreter<'_> {
             return true;
         }
         let Some(role) = self.free_role(block, w, diags) else { return false };
+        self.machine_axis_name(block, role, w.range, diags);
         let mut v = match w.value {
             Value::Number { value, .. } => value,
             Value::Text(r) => match self.text_value(block, role, r, w.range, diags) {
@@ -506,6 +507,29 @@ impl Interpreter<'_> {
                 }
             }
         }
+    }
+
+    /// `X1=10`: a linear axis or A/B named by its machine axis name (SINUMERIK: X1, Y1, Z1 by
+    /// default), read as that axis. G74 and G75 name axes so (their values ignored); in any
+    /// other block, whether the value is in the machine's frame or the work's is the
+    /// machine's configuration (channel and machine axis names), so the move is said to be
+    /// unknown and a translation refuses. C's numbered names (`C4=120`, a spindle as an axis)
+    /// are channel axes, read as ever.
+    fn machine_axis_name(&mut self, block: &Block, role: Role, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        if !matches!(role, Role::X | Role::Y | Role::Z | Role::A | Role::B) {
+            return;
+        }
+        let t = block.text(range).as_bytes();
+        let digits = t.iter().skip(1).take_while(|c| c.is_ascii_digit()).count();
+        if digits == 0 || t.get(1 + digits) != Some(&b'=') {
+            return;
+        }
+        if self.codes.iter().any(|&(c, _)| matches!(self.code(c).meaning, Meaning::ReferenceApproach | Meaning::FixedPointApproach)) {
+            return;
+        }
+        let shown = block.text(range).to_owned();
+        let d = motion_unknown(&shown, "an axis by its machine axis name, whose frame the machine's configuration sets", range);
+        self.limited(diags, "motion-unknown", d);
     }
 
     /// Fanuc `G16` (polar coordinate command) in force, or set by this block, and not ended by

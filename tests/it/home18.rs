@@ -58,6 +58,18 @@ fn siemens_g74_goes_straight_to_the_reference_point_in_the_axes_it_names() {
     assert!(matches!(c[at + 2].op, CanonOp::StraightTraverse(p) if p[0] == 40.0 && p[2] == 10.0), "{:?}", c[at + 2]);
 }
 
+/// Outside G74/G75 a machine axis name (`X1=10`) is read as its axis, said and refused:
+/// whether the value is the machine's frame is the machine's configuration.
+#[test]
+fn a_machine_axis_name_outside_g74_is_said() {
+    let (_, diags) = canon("siemens", "N10 G0 X1=10 Z1=5\nN20 M30\n");
+    assert!(diags.iter().any(|d| d.code.as_str() == "interp::motion-unknown" && d.message.contains("X1=10")), "{diags:?}");
+    let (_, diags) = canon("siemens", G74);
+    assert!(diags.iter().all(|d| d.code.as_str() != "interp::motion-unknown"), "{diags:?}");
+    let (_, diags) = canon("siemens", "N10 G0 C4=120\nN20 M30\n");
+    assert!(diags.iter().all(|d| d.code.as_str() != "interp::motion-unknown"), "{diags:?}");
+}
+
 #[test]
 fn siemens_g74_translates_to_a_return_through_the_current_position() {
     let (fanuc, diags) = translate(G74, &dialect("siemens"), &dialect("fanuc"), "P1");
