@@ -345,11 +345,21 @@ pub fn rotary_tool_axis(abc: [f64; 3]) -> [f64; 3] {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MachineTarget {
-    /// Reference position 1 (`G28`, Siemens `G74`) or 2 (`G30`, `G75`), through an
-    /// intermediate point: the marker's two traverses.
+    /// Reference position 1 (`G28`) or 2 to 4 (`G30 P2`..`P4`), through an intermediate
+    /// point: the marker's two traverses.
     Reference(u8),
+    /// Reference position k reached straight, with no intermediate point (SINUMERIK `G74`,
+    /// Centroid `M25`): the marker's one traverse. It moves as a `G28` whose intermediate
+    /// point is the current position (`G91 G28 Z0`).
+    Direct(u8),
+    /// Fixed point n (SINUMERIK `G75 FP=n`), reached straight: the marker's one traverse. A
+    /// place of its own in the machine data, not a reference position.
+    Fixed(u8),
     /// Machine coordinates for one block (`G53`, `SUPA`, `M91`): the marker's one move.
     Machine,
+    /// Coordinates from a datum the machine builder defines, for one block (Heidenhain
+    /// `M92`): the marker's one move. Not the machine datum: no `G53` reaches it.
+    Builder,
 }
 
 /// A move in the machine's frame (a marker before its moves).
@@ -357,9 +367,9 @@ pub enum MachineTarget {
 pub struct MachineMove {
     /// Where it goes.
     pub target: MachineTarget,
-    /// The axes it moves there (X Y Z A B C), with their machine coordinates for
-    /// [`MachineTarget::Machine`] (in the program's length units) and `0` for a reference
-    /// position (which one, not where, is known).
+    /// The axes it moves there (X Y Z A B C), with their coordinates for
+    /// [`MachineTarget::Machine`] and [`MachineTarget::Builder`] (in the program's length
+    /// units) and `0` for a reference or fixed position (which one, not where, is known).
     pub axes: [Option<f64>; 6],
 }
 
@@ -368,7 +378,7 @@ impl MachineMove {
     pub fn moves(&self) -> usize {
         match self.target {
             MachineTarget::Reference(_) => 2,
-            MachineTarget::Machine => 1,
+            MachineTarget::Direct(_) | MachineTarget::Fixed(_) | MachineTarget::Machine | MachineTarget::Builder => 1,
         }
     }
 
@@ -380,14 +390,19 @@ impl MachineMove {
             .iter()
             .zip(NAMES)
             .filter_map(|(v, n)| match (v, self.target) {
-                (Some(_), MachineTarget::Reference(_)) => Some(n.to_owned()),
-                (Some(v), MachineTarget::Machine) => Some(format!("{n}{v}")),
+                (Some(_), MachineTarget::Reference(_) | MachineTarget::Direct(_) | MachineTarget::Fixed(_)) => Some(n.to_owned()),
+                (Some(v), MachineTarget::Machine | MachineTarget::Builder) => Some(format!("{n}{v}")),
                 (None, _) => None,
             })
             .collect();
         match self.target {
             MachineTarget::Reference(k) => format!("return to reference position {k} in {}", axes.join(" ")),
+            MachineTarget::Direct(k) => format!("straight approach of reference position {k} in {}", axes.join(" ")),
+            MachineTarget::Fixed(k) => format!("straight approach of fixed point {k} in {}", axes.join(" ")),
             MachineTarget::Machine => format!("move in machine coordinates to {}", axes.join(" ")),
+            MachineTarget::Builder => {
+                format!("move in coordinates from the machine builder's datum to {}", axes.join(" "))
+            }
         }
     }
 }

@@ -38,6 +38,10 @@ pub enum Kind {
     Reference(u8),
     /// In machine coordinates, to the values given.
     Machine,
+    /// To a fixed point (which one), in the axes marked.
+    Fixed(u8),
+    /// From the machine builder's datum, to the values given.
+    Builder,
 }
 
 impl Kind {
@@ -49,6 +53,8 @@ impl Kind {
             Kind::ArcCcw => "ccw arc",
             Kind::Reference(_) => "reference return",
             Kind::Machine => "machine-coordinate move",
+            Kind::Fixed(_) => "fixed-point approach",
+            Kind::Builder => "move from the machine builder's datum",
         }
     }
 
@@ -260,7 +266,9 @@ impl Trace {
                 self.machine = Some((kind, axes, left - 1));
             } else {
                 // The machine's frame: which position, not the numbers the analysis gave it.
-                let at = std::array::from_fn(|k| axes[k].map_or(f64::NAN, |v| if kind == Kind::Machine { v * self.scale } else { 0.0 }));
+                let at = std::array::from_fn(|k| {
+                    axes[k].map_or(f64::NAN, |v| if matches!(kind, Kind::Machine | Kind::Builder) { v * self.scale } else { 0.0 })
+                });
                 // Where only the machine knows: unknown in the work offset's frame after it.
                 self.known &= !(0..6).filter(|&k| axes[k].is_some()).fold(0u8, |m, k| m | 1 << k);
                 self.push(kind, at, line);
@@ -390,8 +398,11 @@ impl CanonSink for Trace {
             CanonOp::Setting(Setting::WorkOffset(i)) => self.select(Some(*i), self.wcs.1),
             CanonOp::MachineMove(m) => {
                 let kind = match m.target {
-                    MachineTarget::Reference(k) => Kind::Reference(k),
+                    // A straight approach moves as a return through the current position.
+                    MachineTarget::Reference(k) | MachineTarget::Direct(k) => Kind::Reference(k),
+                    MachineTarget::Fixed(k) => Kind::Fixed(k),
                     MachineTarget::Machine => Kind::Machine,
+                    MachineTarget::Builder => Kind::Builder,
                 };
                 self.machine = Some((kind, m.axes, m.moves()));
             }
@@ -534,7 +545,7 @@ pub fn difference(ta: &Trace, tb: &Trace, tol: f64) -> Option<Difference> {
         let Some(n) = b.get(j) else {
             return differ(m, None, format!("the translation ends before the {} to {}", m.kind.label(), fmt(m.to)));
         };
-        if m.frame != n.frame && m.kind != Kind::Reference(1) && m.kind != Kind::Reference(2) && m.kind != Kind::Machine {
+        if m.frame != n.frame && !matches!(m.kind, Kind::Reference(_) | Kind::Fixed(_) | Kind::Machine | Kind::Builder) {
             return differ(m, Some(n), format!("moves in {}, the translation in {}", frame(m.frame), frame(n.frame)));
         }
         if !same_tilt(m.tilt.as_ref(), n.tilt.as_ref(), tol) {

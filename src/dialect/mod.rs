@@ -874,6 +874,10 @@ pub struct CodeDef {
     /// into the cylinder, placed by Z and C; 2 Z: into the face, placed by X and C); `None`
     /// for a cycle that feeds along its plane's normal.
     pub hole_axis: Option<u8>,
+    /// For a reference approach (`reference-approach`) whose block names no axis: the axes it
+    /// sends to the reference point, bit k for X Y Z A B C (Centroid `M25`: Z alone); 0 for
+    /// every axis.
+    pub home_axes: u8,
     /// For such a cycle: R is the R plane's position (Haas lathes; a diameter for a hole into
     /// the cylinder), not the distance from the initial level (Fanuc).
     pub r_absolute: bool,

@@ -280,6 +280,17 @@ vocab! {
         Home2Set = "home-2-set",
         /// Move in machine coordinates for one block (G53).
         MachineCoords = "machine-coords",
+        /// Move for one block in coordinates from a datum the machine builder defines
+        /// (Heidenhain `M92`, e.g. the tool-change position): not the machine datum, so no
+        /// `G53` reaches it; only the machine knows where it is.
+        MachineBuilderCoords = "machine-builder-coords",
+        /// The axes the block names (else the code's `home-axes`) go straight to the reference
+        /// point, with no intermediate point; their values are ignored (SINUMERIK `G74 X1=0
+        /// Z1=0`, Centroid `M25`: Z home at rapid).
+        ReferenceApproach = "reference-approach",
+        /// The axes the block names go straight to fixed point `FP=n` (1 to 4, 1 without FP),
+        /// with no intermediate point; their values are ignored (SINUMERIK `G75 FP=2 X1=0`).
+        FixedPointApproach = "fixed-point-approach",
         /// Coordinate-system shift (G92).
         OriginShift = "origin-shift",
         /// Cancel coordinate-system shift (G92.1, G92.2).
@@ -298,8 +309,11 @@ vocab! {
         Scaling = "scaling",
         /// Scaling cancel (G50).
         ScalingCancel = "scaling-cancel",
-        /// Polar coordinates on/off (G15, G16).
+        /// Polar coordinate command on (Fanuc G16): in a move, the plane's first axis word is
+        /// the radius, the second the angle, about the work origin (G90).
         Polar = "polar",
+        /// Polar coordinate command off (Fanuc G15).
+        PolarOff = "polar-off",
         /// Macro call (G65).
         MacroCall = "macro-call",
         /// Register a macro called after every move until cancelled (Fanuc G66).

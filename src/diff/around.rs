@@ -105,7 +105,17 @@ fn positions(block: &Block, d: &Dialect) -> bool {
             use Meaning as M;
             matches!(
                 c.meaning,
-                M::Home1 | M::Home2 | M::MachineCoords | M::SetData | M::OriginShift | M::LocalOffset | M::Home1Set | M::Home2Set
+                M::Home1
+                    | M::Home2
+                    | M::ReferenceApproach
+                    | M::FixedPointApproach
+                    | M::MachineCoords
+                    | M::MachineBuilderCoords
+                    | M::SetData
+                    | M::OriginShift
+                    | M::LocalOffset
+                    | M::Home1Set
+                    | M::Home2Set
             ) || (!is_motion(c.meaning) && AXES.iter().any(|&r| c.params.takes(r)))
         }),
         _ => false,

@@ -76,7 +76,17 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
         if matches!(w.role, Role::A | Role::B | Role::C) && !no_motion && !given(w.role) {
             m |= ROTARY_MOVE;
         }
-        if code_of(w).is_some_and(|code| matches!(code.meaning, Meaning::Home1 | Meaning::Home2 | Meaning::MachineCoords)) {
+        if code_of(w).is_some_and(|code| {
+            matches!(
+                code.meaning,
+                Meaning::Home1
+                    | Meaning::Home2
+                    | Meaning::ReferenceApproach
+                    | Meaning::FixedPointApproach
+                    | Meaning::MachineCoords
+                    | Meaning::MachineBuilderCoords
+            )
+        }) {
             m |= RETURN_MOVE;
         }
     }

@@ -42,6 +42,10 @@ impl Interpreter<'_> {
         if !self.plain_state() {
             return false;
         }
+        // `X1=10` (a machine axis name): the general way says it.
+        if self.machine_axis_names && block.words.iter().any(|w| numbered_axis(block.text(w.range).as_bytes())) {
+            return false;
+        }
         let exprs = !block.exprs.is_empty();
         if exprs && !self.plain_expressions(block) {
             return false;
@@ -93,7 +97,8 @@ impl Interpreter<'_> {
     /// Whether the state lets a block be a plain move at all: no modal cycle or macro, no
     /// message waiting for a stop, no diameter programming, no modal rounding (`RNDM`), no NURBS curve under way, no
     /// face (`TRANSMIT`, `G12.1`) or cylinder (`TRACYL`, `G7.1`) interpolation, whose words
-    /// are not the machine's axes (`face_plane` is set under both).
+    /// are not the machine's axes (`face_plane` is set under both), no polar coordinate
+    /// command (Fanuc `G16`: X and Y are a radius and an angle).
     #[inline(always)]
     fn plain_state(&self) -> bool {
         !(self.st.cycle_modal
@@ -103,6 +108,7 @@ impl Interpreter<'_> {
             || self.st.round_modal.is_some()
             || self.st.face_plane.is_some()
             || self.st.tcp
+            || self.st.polar_command
             || self.st.nurbs.is_some())
     }
 
@@ -323,4 +329,10 @@ fn plain_code(d: &Dialect, c: usize) -> bool {
 /// straight move: the code is one ([`plain_code`]) and gives no word another role.
 pub(super) fn straight_keyword(d: &Dialect, c: usize) -> bool {
     d.codes[c].args.is_empty() && plain_code(d, c)
+}
+
+/// `X1=10`: a letter, one or two digits, then `=` (not `X10`, not `X=10`).
+fn numbered_axis(t: &[u8]) -> bool {
+    let digits = t.iter().skip(1).take_while(|c| c.is_ascii_digit()).count();
+    (1..=2).contains(&digits) && t.get(1 + digits) == Some(&b'=')
 }

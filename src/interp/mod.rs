@@ -644,6 +644,9 @@ struct State {
     feed_per_rev: bool,
     /// The circle centre / pole in the plane's two axes (`CC X Y`), program coordinates.
     pole: (f64, f64),
+    /// The polar coordinate command in force (Fanuc `G16`, off by `G15`): a move's first
+    /// axis word of the plane is a radius, the second an angle, about the work origin.
+    polar_command: bool,
     /// The plane of the pole when its block named the two axes of another plane than the
     /// active one (Heidenhain `CC Y+0.2 Z-0.2` with tool axis Z): the arcs about it (`C`, `CP`)
     /// run in that plane.
@@ -783,6 +786,7 @@ impl State {
             scale_set: None,
             mirror: [None; 3],
             pole: (0.0, 0.0),
+            polar_command: false,
             pole_plane: None,
             arc_cw: true,
             defined_cycle: None,
@@ -988,6 +992,9 @@ pub struct Interpreter<'a> {
     /// By code: whether the code, as the motion mode in force, reads the extra word as a polar
     /// word (an inert code's value then goes the general way), asked once.
     extra_polar: Vec<bool>,
+    /// Whether the dialect names a linear axis (or A, B) by letter and number (`X1=10`, the
+    /// SINUMERIK machine axis names): such a block goes the general way, which says it.
+    machine_axis_names: bool,
     /// Assignments of the block being executed, waiting for its reads (reused).
     pending: Vec<PendingAssign>,
     /// A `#3006` stop message to emit at the stop step.
@@ -1134,6 +1141,10 @@ impl<'a> Interpreter<'a> {
             straight_keywords: (0..dialect.codes.len()).map(|c| fast::straight_keyword(dialect, c)).collect(),
             inert_keywords: (0..dialect.codes.len()).map(|c| read::inert_keyword(dialect, profile, c)).collect(),
             extra_polar: dialect.codes.iter().map(|def| def.args.iter().any(|&(from, _)| from == Role::Extra)).collect(),
+            machine_axis_names: dialect
+                .addresses
+                .iter()
+                .any(|a| a.axis_index && matches!(a.role, Role::X | Role::Y | Role::Z | Role::A | Role::B)),
             stop_message: None,
             tool_edits: BTreeMap::new(),
             comp: std::cell::RefCell::new(None),

@@ -15,7 +15,8 @@ const OFFSETS: [Role; 3] = [Role::I, Role::J, Role::K];
 impl Interpreter<'_> {
     /// The end point of a move: axis words in the distance mode, in program coordinates.
     pub(super) fn target(&self) -> [f64; 6] {
-        let machine = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::MachineCoords);
+        let machine =
+            self.codes.iter().any(|&(c, _)| matches!(self.code(c).meaning, Meaning::MachineCoords | Meaning::MachineBuilderCoords));
         if machine && self.st.rotation(self.st.wcs) != 0.0 {
             // In a rotated system the machine point maps to program X and Y together.
             let mut m = self.machine_pos();
@@ -144,7 +145,9 @@ impl Interpreter<'_> {
     /// (`IPR`, `IPA`) adds to the distance and angle of `from`, the point the move starts at.
     pub(super) fn polar_target(&self, from: [f64; 6], t: &mut [f64; 6]) {
         let (a0, a1, _) = self.st.plane.axes();
-        let (px, py) = self.st.pole;
+        // Fanuc G16 under G90: the pole is the work origin (incremental words are refused
+        // where they are read, `polar_roles`).
+        let (px, py) = if self.st.polar_command { (0.0, 0.0) } else { self.st.pole };
         let (dx, dy) = (from[a0] - px, from[a1] - py);
         let polar = |role: Role, current: f64| match self.slots[role as usize] {
             None => current,
@@ -189,14 +192,21 @@ impl Interpreter<'_> {
     }
 
     /// Marks a straight move the block states in machine coordinates (`G53`, `SUPA`, `M91`)
-    /// with the machine coordinates it names, so that a writer keeps it one.
+    /// with the machine coordinates it names, so that a writer keeps it one; likewise one
+    /// from the machine builder's datum (`M92`), which only the machine knows.
     fn machine_marker(&mut self, sink: &mut dyn CanonSink) {
-        if self.codes.is_empty() || !self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::MachineCoords) {
+        if self.codes.is_empty() {
             return;
         }
+        let target = self.codes.iter().find_map(|&(c, _)| match self.code(c).meaning {
+            Meaning::MachineCoords => Some(MachineTarget::Machine),
+            Meaning::MachineBuilderCoords => Some(MachineTarget::Builder),
+            _ => None,
+        });
+        let Some(target) = target else { return };
         let axes = std::array::from_fn(|i| self.slot(Role::AXES[i]));
         if axes.iter().any(Option::is_some) {
-            self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target: MachineTarget::Machine, axes })));
+            self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target, axes })));
         }
     }
 
@@ -269,8 +279,10 @@ impl Interpreter<'_> {
         // A block of a rapid code (`FMAX`), or in machine coordinates on a control whose G53
         // always positions at rapid traverse (`machine-coords-rapid`), moves at rapid whatever
         // the motion mode in force.
-        let rapid_of =
-            |m: Meaning| m == Meaning::RapidBlock || (m == Meaning::MachineCoords && self.dialect.behaviour.machine_coords_rapid);
+        let rapid_of = |m: Meaning| {
+            m == Meaning::RapidBlock
+                || (matches!(m, Meaning::MachineCoords | Meaning::MachineBuilderCoords) && self.dialect.behaviour.machine_coords_rapid)
+        };
         let rapid_block = !self.codes.is_empty() && self.codes.iter().any(|&(c, _)| rapid_of(self.code(c).meaning));
         let arc = matches!(
             def.meaning,

@@ -96,6 +96,10 @@ impl Interpreter<'_> {
         };
         // A mill's W (its quill) moves the tool as X, Y and Z do (`quill_word`).
         self.has_axes = self.filled & POSITION != 0 || (self.filled & 1 << Role::W as u32 != 0 && self.quill_moves_tool());
+        // The motion code is known now, the modal one too (`has_axes`).
+        if let Some(c) = self.active_motion_code() {
+            self.polar_command_words(c, block, diags);
+        }
         if ok {
             ok = self.check_params(block, diags);
         }
@@ -184,7 +188,7 @@ impl Interpreter<'_> {
             return false;
         };
         if eval::is_unknown(v) {
-            self.unknown_word(block, w.range, diags);
+            let _ = self.unknown_word(block, w.range, diags);
             return true;
         }
         if eval::is_null(v) {
@@ -314,7 +318,9 @@ impl Interpreter<'_> {
                 return true;
             }
             match self.value(block, w.value, w.range, diags) {
-                Some(v) if eval::is_unknown(v) => self.unknown_word(block, w.range, diags),
+                Some(v) if eval::is_unknown(v) => {
+                    let _ = self.unknown_word(block, w.range, diags);
+                }
                 Some(v) if !eval::is_null(v) => self.cycle_args.push((w.role, v)),
                 Some(_) => {}
                 None => return false,
@@ -322,6 +328,7 @@ impl Interpreter<'_> {
             return true;
         }
         let Some(role) = self.free_role(block, w, diags) else { return false };
+        self.machine_axis_name(block, role, w.range, diags);
         let mut v = match w.value {
             Value::Number { value, .. } => value,
             Value::Text(r) => match self.text_value(block, role, r, w.range, diags) {
@@ -337,7 +344,16 @@ impl Interpreter<'_> {
                         self.st.feed = self.st.feed.max(0.0);
                     }
                     self.unknown_roles |= 1 << role as u32;
-                    self.unknown_word(block, w.range, diags);
+                    let what = self.unknown_word(block, w.range, diags);
+                    if role.is_axis() || matches!(role, Role::I | Role::J | Role::K | Role::R | Role::PolarRadius | Role::PolarAngle) {
+                        // Where the tool goes is not known here (a Q after `FN 18: SYSREAD`, a
+                        // global variable): a translation refuses rather than drop the word
+                        // or write a made-up value.
+                        let shown = block.text(w.range).to_owned();
+                        let msg =
+                            format!("`{shown}` reads {what}: where this move goes is not known here, so a translation cannot write it");
+                        self.limited(diags, "motion-unknown", Diagnostic::new(Code::MotionUnknown, w.range, msg));
+                    }
                     return true;
                 }
                 Some(v) if eval::is_null(v) => return true,
@@ -491,6 +507,67 @@ impl Interpreter<'_> {
                         self.filled |= 1 << to as u32;
                     }
                 }
+            }
+        }
+    }
+
+    /// `X1=10`: a linear axis or A/B named by its machine axis name (SINUMERIK: X1, Y1, Z1 by
+    /// default), read as that axis. G74 and G75 name axes so (their values ignored); in any
+    /// other block, whether the value is in the machine's frame or the work's is the
+    /// machine's configuration (channel and machine axis names), so the move is said to be
+    /// unknown and a translation refuses. C's numbered names (`C4=120`, a spindle as an axis)
+    /// are channel axes, read as ever.
+    fn machine_axis_name(&mut self, block: &Block, role: Role, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        if !matches!(role, Role::X | Role::Y | Role::Z | Role::A | Role::B) {
+            return;
+        }
+        let t = block.text(range).as_bytes();
+        let digits = t.iter().skip(1).take_while(|c| c.is_ascii_digit()).count();
+        if digits == 0 || t.get(1 + digits) != Some(&b'=') {
+            return;
+        }
+        if self.codes.iter().any(|&(c, _)| matches!(self.code(c).meaning, Meaning::ReferenceApproach | Meaning::FixedPointApproach)) {
+            return;
+        }
+        let shown = block.text(range).to_owned();
+        let d = motion_unknown(&shown, "an axis by its machine axis name, whose frame the machine's configuration sets", range);
+        self.limited(diags, "motion-unknown", d);
+    }
+
+    /// Fanuc `G16` (polar coordinate command) in force, or set by this block, and not ended by
+    /// its `G15`: the move's or hole's first axis word of the plane is the radius, the second
+    /// the angle (in G17, X the radius and Y the angle), about the work origin under G90
+    /// (Fanuc 0i-MF operator's manual, "Polar coordinate command (G15, G16)"). An incremental
+    /// word makes the current position the pole, with the angle from the previous one: that
+    /// is not modelled, and said so (a translation refuses).
+    fn polar_command_words(&mut self, c: usize, block: &Block, diags: &mut Vec<Diagnostic>) {
+        let has = |s: &Self, m: Meaning| s.codes.iter().any(|&(k, _)| s.code(k).meaning == m);
+        if !(has(self, Meaning::Polar) || (self.st.polar_command && !has(self, Meaning::PolarOff))) {
+            return;
+        }
+        let m = self.code(c).meaning;
+        if !(matches!(m, Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw) || m.is_cycle()) {
+            return;
+        }
+        let (a0, a1, _) = self.st.plane.axes();
+        let (r, a) = (Role::AXES[a0], Role::AXES[a1]);
+        let given = |s: &Self, role: Role| s.slots[role as usize].is_some();
+        if !given(self, r) && !given(self, a) {
+            return;
+        }
+        if (given(self, r) && self.incremental(r)) || (given(self, a) && self.incremental(a)) {
+            let d = motion_unknown(
+                block.text(block.range).trim(),
+                "an incremental polar coordinate command: the pole at the current position, the angle from the previous one",
+                block.range,
+            );
+            self.limited(diags, "motion-unknown", d);
+            return;
+        }
+        for (from, to) in [(r, Role::PolarRadius), (a, Role::PolarAngle)] {
+            if let Some(s) = self.slots[from as usize].take() {
+                self.slots[to as usize] = Some(s);
+                self.filled |= 1 << to as u32;
             }
         }
     }
@@ -697,6 +774,8 @@ impl Interpreter<'_> {
                     | Meaning::LengthCompDynamic
                     | Meaning::Home1
                     | Meaning::Home2
+                    | Meaning::ReferenceApproach
+                    | Meaning::FixedPointApproach
                     | Meaning::OriginShift
                     | Meaning::LocalOffset
                     | Meaning::Scaling
@@ -731,7 +810,7 @@ impl Interpreter<'_> {
 
     /// A word whose value is unknown: omitted, as a vacant one is, so that a move keeps its
     /// known axes; said once per block.
-    fn unknown_word(&mut self, block: &Block, range: TextRange, diags: &mut Vec<Diagnostic>) {
+    fn unknown_word(&mut self, block: &Block, range: TextRange, diags: &mut Vec<Diagnostic>) -> String {
         self.unknown_words += 1;
         let shown = block.text(range).to_owned();
         let what = self.unknown_what();
@@ -741,6 +820,7 @@ impl Interpreter<'_> {
             d.severity = Severity::Warning;
         }
         self.limited(diags, "unknown-value", d);
+        what
     }
 
     /// The axis an axis variable names (`AX[_X]=10` after `DEF AXIS _X=X`); none, with a

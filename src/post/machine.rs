@@ -34,10 +34,16 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// A machine-frame move begins: the moves that follow are its own.
     pub(super) fn machine_op(&mut self, canon: &Canon, m: &MachineMove) {
         self.cancel_cycle();
+        // A straight approach of the reference position is the target's return with the
+        // current position as its intermediate point (`G91 G28 Z0`), as its template writes it.
+        // Fixed points and reference positions 3 and 4 have no template: refused.
         let event = match m.target {
-            MachineTarget::Reference(1) => "home-1",
-            MachineTarget::Reference(_) => "home-2",
+            MachineTarget::Reference(1) | MachineTarget::Direct(1) => "home-1",
+            MachineTarget::Reference(2) | MachineTarget::Direct(2) => "home-2",
+            MachineTarget::Reference(_) | MachineTarget::Direct(_) => "home-n",
+            MachineTarget::Fixed(_) => "fixed-point",
             MachineTarget::Machine => "machine-rapid",
+            MachineTarget::Builder => "machine-builder-rapid",
         };
         let writable = self.out.template(event).is_some_and(|(t, _)| !t.0.is_empty());
         if !writable {
@@ -82,9 +88,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             for (k, v) in pending.marker.axes.iter().enumerate() {
                 if let Some(v) = v {
                     let x = match pending.marker.target {
-                        MachineTarget::Reference(_) => 0.0,
-                        MachineTarget::Machine if k < 3 => self.to_out(*v),
-                        MachineTarget::Machine => *v,
+                        MachineTarget::Reference(_) | MachineTarget::Direct(_) | MachineTarget::Fixed(_) => 0.0,
+                        MachineTarget::Machine | MachineTarget::Builder if k < 3 => self.to_out(*v),
+                        MachineTarget::Machine | MachineTarget::Builder => *v,
                     };
                     vals.set(MACHINE_AXES[k], x);
                 }

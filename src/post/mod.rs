@@ -330,6 +330,13 @@ pub fn translate_with_facts<'t>(
             format!("the dialect `{}` has no <output> rules: ncplan cannot write programs for it", to.name),
         )];
     };
+    if let Some(why) = &out.refused {
+        return vec![Diagnostic::new(
+            Code::PostUnwritable,
+            Default::default(),
+            format!("ncplan cannot write programs for `{}`: {why}", to.name),
+        )];
+    }
     let mut opts = opts;
     opts.peck_clearance = (from.behaviour.peck_clearance_mm, to.behaviour.peck_clearance_mm);
     opts.length_at_tool_change = (from.behaviour.tool_change_applies_length, to.behaviour.tool_change_applies_length);

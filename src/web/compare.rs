@@ -448,10 +448,14 @@ pub(crate) struct Translated {
     pub(crate) errors: bool,
 }
 
+/// Whether ncplan writes programs for `d`: it has output rules of its own (not refused).
+fn writes(d: &crate::dialect::Dialect) -> bool {
+    d.output.as_ref().is_some_and(|o| o.refused.is_none())
+}
+
 /// The dialects a program can be written in: those with output rules, by name.
 pub(crate) fn writable(registry: &crate::dialect::Registry) -> Vec<String> {
-    let mut names: Vec<String> =
-        registry.names().filter(|n| registry.get(n).is_some_and(|d| d.output.is_some())).map(str::to_owned).collect();
+    let mut names: Vec<String> = registry.names().filter(|n| registry.get(n).is_some_and(|d| writes(&d))).map(str::to_owned).collect();
     names.sort();
     names
 }
@@ -503,7 +507,7 @@ pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Opt
     };
     let target = registry
         .get(&to)
-        .filter(|d| d.output.is_some())
+        .filter(|d| writes(d))
         .ok_or_else(|| NotFound(format!("ncplan cannot write programs in `{to}`; it writes {}", writable(registry).join(", "))))?;
     let source_dialect = registry.get(&from).ok_or_else(|| NotFound(format!("no dialect `{from}`")))?;
     let (source, notes) = crate::text::decode_owned(bytes);

@@ -687,8 +687,9 @@ fn heidenhain_approaches_and_departures_follow_the_contour() {
 }
 
 /// FreeCAD posted the same jobs for Centroid and for LinuxCNC (`../shared/corpus`): read in
-/// their own dialects, with no error, both give the same moves. Centroid's `M25` (Z home) is
-/// kept as intent; the only extra move is the Centroid preamble's `G53 G00` without axes.
+/// their own dialects, with no error, both give the same cutting moves. Centroid's `M25` is
+/// read as Z straight home (a rapid, not compared); the Centroid preamble's `G53 G00` has no
+/// axes.
 #[test]
 fn centroid_and_linuxcnc_posts_of_one_job_give_the_same_moves() {
     let Some(corpus) = crate::shared_corpus("derived::centroid_and_linuxcnc_posts_of_one_job_give_the_same_moves") else { return };

@@ -71,6 +71,7 @@ mod fagor;
 mod faults;
 mod first_start;
 mod flow;
+mod home18;
 mod lathe;
 mod lathe_edits;
 mod legacy_blocks;

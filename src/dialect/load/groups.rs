@@ -23,6 +23,7 @@ const CODE_ATTRIBUTES: &[&str] = &[
     "forms",
     "gives-way",
     "hole-axis",
+    "home-axes",
     "r-level",
     "spindle",
     "args",
@@ -126,6 +127,10 @@ impl Cx {
             Some("z") => Some(2),
             _ => None,
         };
+        // Centroid `M25`: the axes a reference approach without axis words sends home.
+        let home_axes = self
+            .attr(c, "home-axes")
+            .map_or(0, |list| list.chars().filter_map(|ch| "XYZABC".find(ch.to_ascii_uppercase())).fold(0u8, |m, k| m | 1 << k));
         // Haas's live-tool cycles: R is the R plane's position (a diameter for a radial
         // hole), not Fanuc's distance from the initial level.
         let r_absolute = self.attr(c, "r-level") == Some("absolute");
@@ -148,6 +153,7 @@ impl Cx {
             forms,
             gives_way,
             hole_axis,
+            home_axes,
             r_absolute,
             driven,
             args,

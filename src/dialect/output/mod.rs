@@ -316,6 +316,7 @@ pub const EVENTS: &[&str] = &[
     "home-1",
     "home-2",
     "machine-rapid",
+    "machine-builder-rapid",
     "thread",
     "rigid-tap",
     "css-on",
@@ -451,6 +452,9 @@ pub struct Output {
     pub comment_upper: bool,
     /// Whether a motion block's first word (its G code) is left out when unchanged.
     pub modal_motion: bool,
+    /// Why a translation to this control is refused (`refused="..."`): the rules are another
+    /// dialect's, inherited, and their syntax is not one its control runs.
+    pub refused: Option<String>,
     /// Number formats.
     pub formats: Vec<NumberFormat>,
     /// Templates by event.

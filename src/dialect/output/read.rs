@@ -140,7 +140,7 @@ fn count(el: &Element, name: &str, default: u64, errors: &mut Errors) -> u64 {
 
 /// Validates an `<output>` element.
 pub(in crate::dialect) fn load(el: &Element, errors: &mut Errors) -> Output {
-    shape(el, &["modal-motion"], errors);
+    shape(el, &["modal-motion", "refused"], errors);
     let mut out = Output {
         separator: " ".into(),
         end_of_block: String::new(),
@@ -154,6 +154,7 @@ pub(in crate::dialect) fn load(el: &Element, errors: &mut Errors) -> Output {
         comment_forbidden: "()".into(),
         comment_upper: false,
         modal_motion: flag(el, "modal-motion", true, errors),
+        refused: attr(el, "refused").map(str::to_owned),
         formats: Vec::new(),
         templates: Vec::new(),
         cycles: Vec::new(),

@@ -14,9 +14,13 @@ use crate::text::TextRange;
 
 impl Interpreter<'_> {
     /// `CC X Y` and its forms: the pole at the block's point (the plane's axes not given stay
-    /// as they were, for the keeping form), or that far from the current point or the pole.
+    /// as they were, for the keeping form), or that far from the current point or the pole; and
+    /// Fanuc `G16` / `G15`, the polar coordinate command on or off.
     pub(super) fn pole_code(&mut self, def: &CodeDef) {
         match def.meaning {
+            // Fanuc G16 / G15: the moves that follow read polar words about the work origin
+            // (`polar_command_words`).
+            Meaning::Polar | Meaning::PolarOff => self.st.polar_command = def.meaning == Meaning::Polar,
             Meaning::Pole => {
                 self.st.pole_plane = None;
                 let t = self.target();

@@ -45,6 +45,24 @@ use crate::interp::Interpreter;
 use crate::syntax::Block;
 use crate::text::TextRange;
 
+/// Whether code meaning `m` returns to or approaches a reference or fixed position, or
+/// stores one (`G28`, `G30`, `G28.1`, SINUMERIK `G74`, `G75`, Centroid `M25`).
+fn homes(m: Meaning) -> bool {
+    matches!(
+        m,
+        Meaning::Home1 | Meaning::Home2 | Meaning::Home1Set | Meaning::Home2Set | Meaning::ReferenceApproach | Meaning::FixedPointApproach
+    )
+}
+
+/// Whether code meaning `m` sets the pole of polar positions (`CC`, `G111`) or switches the
+/// polar coordinate command (Fanuc `G16`, `G15`).
+fn poles(m: Meaning) -> bool {
+    matches!(
+        m,
+        Meaning::Pole | Meaning::PoleKeeping | Meaning::PoleIncremental | Meaning::PoleFromPole | Meaning::Polar | Meaning::PolarOff
+    )
+}
+
 impl Interpreter<'_> {
     /// Runs step `step` of the block: its words of that step (comments, F, S, T) or its codes
     /// that take effect at it.
@@ -192,9 +210,9 @@ impl Interpreter<'_> {
             | Meaning::TiltRelative
             | Meaning::TiltReset => self.tilt_code(def, range, block, sink, diags),
             Meaning::Scaling | Meaning::ScalingCancel => self.scaling_code(def, range, block, diags),
-            Meaning::Home1 | Meaning::Home2 | Meaning::Home1Set | Meaning::Home2Set => self.home_code(def, sink),
-            // G53: the block's move is in machine coordinates; the motion step reads it.
-            Meaning::MachineCoords => {}
+            m if homes(m) => self.home_code(def, sink),
+            // G53, M91, M92: the block's move is in machine (or builder's) coordinates; read at motion.
+            Meaning::MachineCoords | Meaning::MachineBuilderCoords => {}
             Meaning::Rapid
             | Meaning::Linear
             | Meaning::ArcCw
@@ -236,7 +254,7 @@ impl Interpreter<'_> {
             Meaning::CornerRound | Meaning::CornerChamfer => self.corner_code(def, range, diags),
             // Read with the block's corner words, after its move (`corner_words`).
             Meaning::RoundModal => {}
-            Meaning::Pole | Meaning::PoleKeeping | Meaning::PoleIncremental | Meaning::PoleFromPole => self.pole_code(def),
+            m if poles(m) => self.pole_code(def),
             Meaning::FrameTrans | Meaning::FrameTransAdd => self.frame_trans(def.meaning == Meaning::FrameTransAdd, sink),
             Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, sink),
             Meaning::FrameScale | Meaning::FrameScaleAdd => self.frame_scale(def.meaning == Meaning::FrameScaleAdd, sink),

@@ -179,7 +179,13 @@ impl Interpreter<'_> {
     /// current position becomes it).
     pub(super) fn home_code(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
         match def.meaning {
-            Meaning::Home1 | Meaning::Home2 => self.home(def.meaning == Meaning::Home1, sink),
+            Meaning::Home1 => self.home(1, sink),
+            // Fanuc `G30 P3`: the third reference position (P2 to P4; without P the second).
+            Meaning::Home2 => {
+                let p = self.slot(Role::P).filter(|_| def.params.takes(Role::P)).map(f64::round);
+                self.home(p.filter(|p| (2.0..=4.0).contains(p)).map_or(2, |p| p as u8), sink);
+            }
+            Meaning::ReferenceApproach | Meaning::FixedPointApproach => self.reference_approach(def, sink),
             _ => {
                 // The reference positions are kept in machine coordinates, mm.
                 let m = self.machine_pos();
@@ -286,9 +292,57 @@ impl Interpreter<'_> {
         self.emit(sink, CanonOp::SetG92Offset(self.st.g92));
     }
 
-    /// G28 (`first`) or G30: a rapid through the block's point, then to the reference
-    /// position along the axes the block names (all of them without any).
-    fn home(&mut self, first: bool, sink: &mut dyn CanonSink) {
+    /// SINUMERIK `G74` / Centroid `M25` (reference point approach) and `G75 FP=n` (fixed point
+    /// approach, FP 1 to 4, 1 without it): the axes the block names (their values are
+    /// ignored: 840D programming manual, "G74 reference point approach", "G75 fixed point
+    /// approach"), else the code's `home-axes`, else all of them, go straight there in one
+    /// traverse, with no intermediate point. Where that is, only the machine knows: the
+    /// analysis takes the reference position it keeps and 0 for a fixed point, as rs274 takes
+    /// an unset reference position.
+    fn reference_approach(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
+        let named: [bool; 6] = std::array::from_fn(|i| self.slots[Role::AXES[i] as usize].is_some());
+        let moves: [bool; 6] = if named.iter().any(|&b| b) {
+            named
+        } else if def.home_axes != 0 {
+            std::array::from_fn(|i| def.home_axes & 1 << i != 0)
+        } else {
+            [true; 6]
+        };
+        let (target, at) = if def.meaning == Meaning::ReferenceApproach {
+            (MachineTarget::Direct(1), self.st.home1)
+        } else {
+            let n = self.slot(Role::P).map_or(1.0, f64::round);
+            (MachineTarget::Fixed(if (1.0..=4.0).contains(&n) { n as u8 } else { 1 }), [0.0; 6])
+        };
+        let axes = std::array::from_fn(|i| moves[i].then_some(0.0));
+        self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target, axes })));
+        let k = |i: usize| if i < 3 { 1.0 / self.st.units.to_mm() } else { 1.0 };
+        let tlo = |i: usize| if i < 3 { self.st.tool_offset[i] } else { 0.0 };
+        let mut end = self.st.pos;
+        if self.st.rotation(self.st.wcs) != 0.0 {
+            let mut m = self.to_machine(std::array::from_fn(|i| self.st.pos[i] + tlo(i)));
+            for (i, v) in m.iter_mut().enumerate() {
+                if moves[i] {
+                    *v = at[i] * k(i);
+                }
+            }
+            let p = self.program_pos(m);
+            end = std::array::from_fn(|i| p[i] - tlo(i));
+        } else {
+            for i in 0..6 {
+                if moves[i] {
+                    end[i] = at[i] * k(i) - self.st.offset(self.st.wcs)[i] - self.st.g92[i] - tlo(i);
+                }
+            }
+        }
+        self.emit(sink, CanonOp::StraightTraverse(end));
+        self.st.pos = end;
+    }
+
+    /// G28 (`k` 1) or G30 (`k` 2 to 4): a rapid through the block's point, then to the
+    /// reference position along the axes the block names (all of them without any).
+    fn home(&mut self, k: u8, sink: &mut dyn CanonSink) {
+        let first = k == 1;
         // A mill's quill (`W`) is an axis of the return too (LinuxCNC stores W's reference in
         // #5169/#5189; 0 unless set): `G28 W0` homes the quill alone, `G28` all axes with it.
         let quill = self.slots[Role::W as usize].filter(|_| self.quill_moves_tool());
@@ -311,7 +365,7 @@ impl Interpreter<'_> {
         // return moves are unknown after it (`CanonOp::MachineMove`).
         self.stated.set(stated);
         let axes = std::array::from_fn(|i| (!any || self.slots[Role::AXES[i] as usize].is_some()).then_some(0.0));
-        let target = MachineTarget::Reference(if first { 1 } else { 2 });
+        let target = MachineTarget::Reference(k);
         self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target, axes })));
         if let Some(w) = quill {
             let incremental = match w.mode {
