@@ -210,6 +210,40 @@ impl Lexer<'_, '_> {
         self.bare_number_ends_line(from + split).then_some(from + split)
     }
 
+    /// Where a list of numbers ends that runs to the line's end (or a comment) in the
+    /// sub-block of a cycle (`CYCL DEF 14.1`): `1 /2 /3` or `1/2/3` after a name, with a `/`
+    /// at least; or a name of two letters or more run into the list's first number
+    /// (`LABEL1 /2`, `KONTURLABEL1`), the name no address of the dictionary. `None` for
+    /// anything else.
+    fn sub_block_list(&self, from: usize, end: usize, named: bool) -> Option<usize> {
+        let sub = self.block.words.iter().rev().find(|w| w.role == Role::CycleNumber).is_some_and(|w| match w.value {
+            Value::Number { value, .. } => (value.fract() * 10.0).round() >= 1.0,
+            _ => false,
+        });
+        if !sub {
+            return None;
+        }
+        let word = &self.b[from..end];
+        let split = word.iter().position(u8::is_ascii_digit)?;
+        let name = &word[..split];
+        let glued = name.len() >= 2 && name.iter().all(u8::is_ascii_alphabetic);
+        if !(glued || named && name.is_empty()) {
+            return None;
+        }
+        if glued && self.dialect.addresses.iter().any(|a| a.name.as_bytes().eq_ignore_ascii_case(name)) {
+            return None;
+        }
+        // The numbers and slashes up to the line's end or a comment there.
+        let eol = self.b[from..].iter().position(|&c| c == b'\n' || c == b'\r').map_or(self.b.len(), |p| from + p);
+        let comments = &self.dialect.lexical.comments;
+        let stop = (from + split..eol).find(|&p| comments.iter().any(|r| r.opens(&self.b[p..eol]))).unwrap_or(eol);
+        let list = self.b[from + split..stop].trim_ascii_end();
+        let shape = list.iter().all(|c| c.is_ascii_digit() || matches!(c, b'/' | b' ' | b'\t'))
+            && list.split(|&c| c == b'/').all(|n| !n.trim_ascii().is_empty() && n.trim_ascii().iter().all(u8::is_ascii_digit));
+        let slashed = list.contains(&b'/');
+        (shape && (slashed || glued)).then_some(from + split + list.len())
+    }
+
     /// Whether a bare number (`5`, `-15`, `.1181`, `+0.5`) starts at `at` and only blanks
     /// follow it on the line.
     fn bare_number_ends_line(&self, at: usize) -> bool {
@@ -251,6 +285,15 @@ impl Lexer<'_, '_> {
             // (`X10`, `Q200`, `DR5`: a letter or the dictionary's address before the digits).
             if mixed && let Some(split) = self.glued_name_value(from, end) {
                 self.i = split;
+                named = true;
+                break;
+            }
+            // A list of numbers the TNC writes after a sub-block's name, `/` between them
+            // (`CYCL DEF 14.1 CONTOUR LABEL 1 /2 /3`, older `KONTURLABEL1 /2 /3`: the labels of
+            // the contour's subprograms, TNC cycle programming manual, cycle 14): read past
+            // whole, the interpreter reads the labels from the block's text.
+            if let Some(list_end) = self.sub_block_list(from, end, named) {
+                self.i = list_end;
                 named = true;
                 break;
             }
