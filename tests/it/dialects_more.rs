@@ -318,3 +318,24 @@ fn a_siemens_variable_named_as_an_address_is_an_error() {
     let (_, diags) = run("siemens", "DEF REAL ANGLE, _ANG\nANGLE=5\nG0 X=ANGLE Y0\nM30\n");
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
 }
+
+/// The legacy cycles' sub-blocks as older TNCs write them, the value run into its name with
+/// its sign and a decimal comma (`CYCL DEF 1.1 ABST+1`, `1.2 TIEFE-11,5`, `5.3 ZUSTLG+3 F1000`,
+/// `10.1 ROT+45`, `11.1 SCL0,75`), a `STOP M0` block and `RND R0,5`: read without an error,
+/// the peck drilling cycle with its depth (TNC 155/355/426 user's manuals, fixed cycles).
+#[test]
+fn legacy_cycle_sub_blocks_with_glued_signed_values() {
+    let text = "0 BEGIN PGM R MM\n1 TOOL CALL 1 Z S100\n2 CYCL DEF 10.0 ROTATION\n3 CYCL DEF 10.1 ROT+45\n\
+                4 CYCL DEF 11.0 SCALING\n5 CYCL DEF 11.1 SCL0,75\n6 CYCL DEF 1.0 TIEFBOHREN\n7 CYCL DEF 1.1 ABST+1\n\
+                8 CYCL DEF 1.2 TIEFE-11,5\n9 CYCL DEF 1.3 ZUSTLG+3\n10 CYCL DEF 1.4 V.ZEIT0\n11 CYCL DEF 1.5 F80\n\
+                12 L X+0 Y+0 Z+2 R0 FMAX M3\n13 L M99\n14 STOP M0\n15 CYCL DEF 5.0 KREISTASCHE\n16 CYCL DEF 5.1 ABST+1\n\
+                17 CYCL DEF 5.2 TIEFE-5\n18 CYCL DEF 5.3 ZUSTLG+3 F1000\n19 CYCL DEF 5.4 RADIUS10\n20 CYCL DEF 5.5 F500 DR+\n\
+                21 L X-60 Y+0 Z-5 R0 FMAX\n22 L X+40 F450\n23 RND R0,5\n24 L X+40 Y-18,376\n25 L Z+10 R0 FMAX M30\n26 END PGM R MM\n";
+    let (calls, diags) = run("heidenhain", text);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    // Surface 1 below the start (Z+2 less ABST 1), the hole 11.5 deep: its bottom at -10.5.
+    assert!(moves(&calls).iter().any(|m| m.starts_with("STRAIGHT_FEED(0.0000, 0.0000, -10.5000")), "{calls:?}");
+    // Words that are addresses stay addresses: `DL+0,2` in a tool call is not a name and value.
+    let (_, diags) = run("heidenhain", "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S100 DL+0,2 DR-0,1\n2 END PGM T MM\n");
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+}
