@@ -387,6 +387,18 @@ pub enum TimeUnit {
     Milliseconds,
 }
 
+/// What a decimal point in a dwell's P (`G04 P2.`, a canned cycle's `P.5`) does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DwellPoint {
+    /// Nothing of its own: P is read in the dwell unit, point or not.
+    Unit,
+    /// The point makes P seconds (Haas: `P.5` half a second, `P500` 500 ms).
+    Seconds,
+    /// The control stops with an alarm: P takes a whole number of milliseconds only (Fanuc
+    /// 0i/30i: "a decimal point cannot be used" in P, alarm PS0007).
+    Alarm,
+}
+
 /// Machine behaviour that differs between controls.
 #[derive(Clone, Debug)]
 pub struct Behaviour {
@@ -398,6 +410,8 @@ pub struct Behaviour {
     pub decimal_input_stated: bool,
     /// Dwell unit of `G4 P`.
     pub dwell_unit: TimeUnit,
+    /// What a decimal point in a dwell's P does.
+    pub dwell_point: DwellPoint,
     /// Whether M6 stops the spindle.
     pub tool_change_stops_spindle: bool,
     /// Whether a tool change applies the new tool's length offset (Siemens `D1` default,

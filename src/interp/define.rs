@@ -52,10 +52,15 @@ impl Interpreter<'_> {
                 format!("{} {name}: the {} dialect has no cycle {name}; skipped", def.label(), self.dialect.name),
             );
             self.limited(diags, "cycle-unknown", d);
+            // The control runs this cycle at the next call: the call is intent, never a call
+            // of an earlier cycle (whose moves would be invented) nor a call of no cycle.
+            self.st.defined_cycle = None;
+            self.st.unmodelled_cycle = Some(name);
             return;
         };
         let cycle = &self.dialect.cycles[ci];
         if !cycle.immediate {
+            self.st.unmodelled_cycle = None;
             // `CYCL DEF 1.0` (or `CYCL DEF 200`) starts the definition; the sub-blocks
             // `CYCL DEF 1.1 DIST2` ... add their words to it.
             let sub = (number.fract() * 10.0).round();
@@ -101,8 +106,19 @@ impl Interpreter<'_> {
             Meaning::ContourDefine => {
                 if (number.fract() * 10.0).round() != 0.0 {
                     let rest = block.text(TextRange { start: range.end, end: block.range.end });
-                    let mut words = rest.split_ascii_whitespace().skip_while(|w| !w.to_ascii_uppercase().ends_with("LABEL"));
-                    let written = words.nth(1).and_then(|w| w.split('/').next()).map(|w| w.trim_matches('"').to_owned());
+                    // The first label after the sub-block number: a quoted name, or the first
+                    // number, alone or run into the name before it (`LABEL 1 /2`, `LABEL1 /2`,
+                    // older `KONTURLABEL1`).
+                    let mut words = rest.split_ascii_whitespace().skip(1);
+                    let written = words.find(|w| w.starts_with('"') || w.bytes().any(|c| c.is_ascii_digit())).map(|w| {
+                        let first = w.split('/').find(|p| !p.is_empty()).unwrap_or_default();
+                        if first.starts_with('"') {
+                            first.trim_matches('"')
+                        } else {
+                            first.trim_start_matches(|c: char| c.is_ascii_alphabetic())
+                        }
+                        .to_owned()
+                    });
                     let label = written.filter(|w| !w.is_empty()).or(self.slot(Role::CycleValue).map(crate::text::num));
                     if let Some(label) = label {
                         self.contour_named = Some(label);
@@ -223,6 +239,7 @@ impl Interpreter<'_> {
             return;
         }
         if let Some(ci) = self.block_cycle.take() {
+            self.st.unmodelled_cycle = None;
             self.st.defined_cycle = Some(Defined { cycle: ci, args: std::mem::take(&mut self.cycle_args), range: block_range });
             if modal {
                 self.st.cycle_modal = true;
@@ -394,6 +411,11 @@ impl Interpreter<'_> {
     fn call_defined(&mut self, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let surface = self.call_surface.take();
         let Some(defined) = self.st.defined_cycle.clone() else {
+            if let Some(name) = self.st.unmodelled_cycle.clone() {
+                let msg = format!("the call runs cycle {name}, which is not modelled: kept as intent, its moves unknown");
+                self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
+                return;
+            }
             diags.push(Diagnostic::new(Code::CycleIncomplete, range, "a cycle call without a cycle defined before it"));
             return;
         };

@@ -655,6 +655,9 @@ struct State {
     arc_cw: bool,
     /// The cycle defined last (`CYCL DEF 200`, `MCALL CYCLE81(...)`), for later calls.
     defined_cycle: Option<define::Defined>,
+    /// A cycle the dictionary does not model, defined last (`CYCL DEF 22 ROUGH-OUT`): a call
+    /// runs it on the control, so the call is kept as intent, its moves unknown.
+    unmodelled_cycle: Option<String>,
     /// Whether the defined cycle runs after every move (`MCALL`, `M89`).
     cycle_modal: bool,
     /// The direction of travel at the end of the last move in the plane (unit vector).
@@ -790,6 +793,7 @@ impl State {
             pole_plane: None,
             arc_cw: true,
             defined_cycle: None,
+            unmodelled_cycle: None,
             cycle_modal: false,
             tangent: None,
             comp_left: true,

@@ -9,7 +9,7 @@
 
 use crate::canon::{DistanceMode, Units};
 use crate::diag::{Code, Diagnostic, Severity};
-use crate::dialect::{CodeDef, DecimalInput, Dialect, Meaning, Role, Step};
+use crate::dialect::{CodeDef, DecimalInput, Dialect, DwellPoint, Meaning, Role, Step, TimeUnit};
 use crate::syntax::{Block, Value, Word, WordMode};
 use crate::text::TextRange;
 
@@ -361,6 +361,9 @@ impl Interpreter<'_> {
                 None => return false,
             },
         };
+        if role == Role::P && matches!(w.value, Value::Number { decimal: true, .. }) && self.dwell_block() {
+            v = self.dwell_p_point(block, w.range, v, diags);
+        }
         v = self.least_increment(block, w, role, v, how, diags);
         // Under `DIAM90` an incremental X (G91, in this block or in force, or `X=IC()`) is a radius.
         let incremental = match w.mode {
@@ -382,6 +385,39 @@ impl Interpreter<'_> {
         self.slots[role as usize] = Some(Slot { value: v, range: w.range, mode: w.mode });
         self.filled |= 1 << role as u32;
         true
+    }
+
+    /// Whether the block's P is a dwell time: a dwell (`G04`) or a canned drilling or boring
+    /// cycle (`G82 ... P`, `G89 ... P`) among its codes.
+    fn dwell_block(&self) -> bool {
+        self.codes.iter().any(|&(c, _)| {
+            let m = self.code(c).meaning;
+            m == Meaning::Dwell || m.is_cycle()
+        })
+    }
+
+    /// A dwell's P written with a decimal point (`G04 P2.`, `G89 ... P2.`), as the dialect
+    /// reads it: Fanuc takes P only as a whole number of milliseconds and stops with an alarm
+    /// (0i-F/30i operator's manuals, Dwell and canned cycles: "a decimal point cannot be used"
+    /// in P; alarm PS0007), the error is at the word and the value read as written; Haas
+    /// reads the point as seconds (mill and lathe operator's manuals, G04), given here in the
+    /// dwell unit; elsewhere P stays in the dwell unit.
+    fn dwell_p_point(&self, block: &Block, range: TextRange, v: f64, diags: &mut Vec<Diagnostic>) -> f64 {
+        match self.dialect.behaviour.dwell_point {
+            DwellPoint::Unit => v,
+            DwellPoint::Seconds => match self.dialect.behaviour.dwell_unit {
+                TimeUnit::Milliseconds => v * 1000.0,
+                TimeUnit::Seconds => v,
+            },
+            DwellPoint::Alarm => {
+                let shown = block.text(range).trim();
+                let msg = format!(
+                    "`{shown}`: a dwell's P takes no decimal point on this control (a whole number of milliseconds); it stops with an alarm"
+                );
+                diags.push(Diagnostic::new(Code::MalformedNumber, range, msg));
+                v
+            }
+        }
     }
 
     /// The role word `w` fills: its own, or, for an address that may appear twice, the

@@ -241,3 +241,101 @@ fn a_lathe_thread_pass_without_f_cuts_at_the_lead_in_force() {
     let (_, bad) = run("fanuc_lathe", "O1\nG98\nG97 S100 M3\nG0 X2.81 Z.05\nG32 Z-.77\nM30\n");
     assert!(bad.iter().any(|d| d.is_error() && d.message.contains("without F")), "{bad:?}");
 }
+
+/// A TNC formula too long for its line goes on after `~` on the next, and a TNC set to the
+/// decimal comma writes `0,001` in it (issue 43, a Klartext curve program): one formula, its
+/// value computed; no error.
+#[test]
+fn a_tnc_formula_continues_after_a_tilde_with_decimal_commas() {
+    let text = "0 BEGIN PGM K MM\n1 TOOL CALL 1 Z S900\n2 Q4 = 0,5\n3 Q2 = ( 1,5 + Q4 ) * ~\n    ( 2 + 0,25 ) + 10\n\
+                4 L X+Q2 Y+0 Z+5 R0 FMAX\n5 END PGM K MM\n";
+    let (calls, diags) = run("heidenhain", text);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    // (1.5 + 0.5) * 2.25 + 10 = 14.5
+    assert!(moves(&calls).iter().any(|m| m.starts_with("STRAIGHT_TRAVERSE(14.5000, 0.0000, 5.0000")), "{calls:?}");
+}
+
+/// `CYCL DEF 14.1 CONTOUR LABEL1 /2 /3` (and the older German `KONTURLABEL1 /2 /3`): the
+/// contour's labels, the first run into the name, `/` between them (TNC cycle programming
+/// manual, cycle 14). Read without an error; the first label is the contour's.
+#[test]
+fn a_contour_label_list_is_read_in_its_written_forms() {
+    for line in ["CONTOUR LABEL1 /2 /3", "KONTURLABEL1 /2", "CONTOUR LABEL 1 /2 /3", "CONTOUR LABEL 1/2", "CONTOUR LABEL 1"] {
+        let text = format!(
+            "0 BEGIN PGM C MM\n1 TOOL CALL 1 Z S1000\n2 CYCL DEF 14.0 CONTOUR\n3 CYCL DEF 14.1 {line}\n4 L Z+100 R0 FMAX M2\n\
+             5 LBL 1\n6 L X+0 Y+0 RR\n7 L X+10 Y+0\n8 LBL 0\n9 LBL 2\n10 L X+5 Y+5 RL\n11 LBL 0\n12 END PGM C MM\n"
+        );
+        let (_, diags) = run("heidenhain", &text);
+        assert!(errors(&diags).is_empty(), "{line}: {:?}", errors(&diags));
+    }
+    // A list in the sub-block of a cycle only: an address run into digits stays an address.
+    let (_, diags) = run("heidenhain", "0 BEGIN PGM C MM\n1 L X+10 Y+0 R0 FMAX /2\n2 END PGM C MM\n");
+    assert!(!errors(&diags).is_empty(), "a slash after a move is not a label list");
+}
+
+/// A call of a cycle the dictionary does not model (`CYCL DEF 22 ROUGH-OUT`, then `CYCL
+/// CALL`) runs that cycle on the control: a warning, kept as intent, never "no cycle defined"
+/// and never a call of the cycle defined before it. A call with no cycle defined at all stays
+/// an error.
+#[test]
+fn a_call_of_an_unmodelled_cycle_is_intent_not_an_error() {
+    let text = "0 BEGIN PGM P MM\n1 TOOL CALL 1 Z S1000\n2 CYCL DEF 200 DRILLING ~\n  Q200=2 ;SET-UP ~\n  Q201=-10 ;DEPTH ~\n\
+                Q206=100 ;FEED ~\n  Q202=10 ;PLUNGE ~\n  Q203=+0 ;SURFACE ~\n  Q204=50 ;2ND\n3 CYCL DEF 22 ROUGH-OUT ~\n\
+                Q10=-2 ;INFEED\n4 L X+10 Y+10 Z+50 R0 FMAX\n5 CYCL CALL M3\n6 END PGM P MM\n";
+    let (calls, diags) = run("heidenhain", text);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(diags.iter().any(|d| d.severity == Severity::Warning && d.message.contains("runs cycle 22")), "{diags:?}");
+    // Cycle 200 is not run in its place: no feed move down to the depth.
+    assert!(!moves(&calls).iter().any(|m| m.starts_with("STRAIGHT_FEED") && m.contains("-10.0000")), "{calls:?}");
+    let (_, diags) = run("heidenhain", "0 BEGIN PGM P MM\n1 TOOL CALL 1 Z S1000\n2 CYCL CALL\n3 END PGM P MM\n");
+    assert!(errors(&diags).iter().any(|e| e.contains("without a cycle defined")), "{diags:?}");
+}
+
+/// `BLK FORM 0.2 X+Q1 Y+Q2 Z+0`: the TNC takes Q parameters there. Known, the blank is
+/// theirs; set outside the file, the blank is unknown (no stock with a corner at 0). No error.
+#[test]
+fn a_blank_given_by_q_parameters() {
+    let known = "0 BEGIN PGM B MM\n1 Q1 = 50\n2 Q2 = 60,5\n3 BLK FORM 0.1 Z X+0 Y+0 Z-20\n4 BLK FORM 0.2 X+Q1 Y+Q2 Z+0\n5 END PGM B MM\n";
+    let (calls, diags) = run("heidenhain", known);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(calls.iter().any(|c| c.contains("STOCK X0 Y0 Z-20 X50 Y60.5 Z0")), "{calls:?}");
+    let unknown = "0 BEGIN PGM B MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-Q92\n2 BLK FORM 0.2 X+Q1 Y+Q2 Z+0\n3 END PGM B MM\n";
+    let (calls, diags) = run("heidenhain", unknown);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(!calls.iter().any(|c| c.contains("STOCK")), "{calls:?}");
+}
+
+/// `DEF REAL ANG`: a user variable may not take a name the control has already (the 840D's
+/// own addresses `ANG`, `RND`, `CR`, an axis): an error at the name. An ordinary name is fine.
+#[test]
+fn a_siemens_variable_named_as_an_address_is_an_error() {
+    for name in ["ANG", "RND", "CR", "X"] {
+        let (_, diags) = run("siemens", &format!("DEF REAL {name}\nG0 X0 Y0\nM30\n"));
+        let found = diags.iter().find(|d| d.is_error()).unwrap_or_else(|| panic!("{name}: {diags:?}"));
+        assert_eq!(found.code.as_str(), "syntax::malformed-expression", "{name}");
+        assert!(found.message.contains(name), "{name}: {}", found.message);
+    }
+    let (_, diags) = run("siemens", "DEF REAL ANGLE, _ANG\nANGLE=5\nG0 X=ANGLE Y0\nM30\n");
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+}
+
+/// The legacy cycles' sub-blocks as older TNCs write them, the value run into its name with
+/// its sign and a decimal comma (`CYCL DEF 1.1 ABST+1`, `1.2 TIEFE-11,5`, `5.3 ZUSTLG+3 F1000`,
+/// `10.1 ROT+45`, `11.1 SCL0,75`), a `STOP M0` block and `RND R0,5`: read without an error,
+/// the peck drilling cycle with its depth (TNC 155/355/426 user's manuals, fixed cycles).
+#[test]
+fn legacy_cycle_sub_blocks_with_glued_signed_values() {
+    let text = "0 BEGIN PGM R MM\n1 TOOL CALL 1 Z S100\n2 CYCL DEF 10.0 ROTATION\n3 CYCL DEF 10.1 ROT+45\n\
+                4 CYCL DEF 11.0 SCALING\n5 CYCL DEF 11.1 SCL0,75\n6 CYCL DEF 1.0 TIEFBOHREN\n7 CYCL DEF 1.1 ABST+1\n\
+                8 CYCL DEF 1.2 TIEFE-11,5\n9 CYCL DEF 1.3 ZUSTLG+3\n10 CYCL DEF 1.4 V.ZEIT0\n11 CYCL DEF 1.5 F80\n\
+                12 L X+0 Y+0 Z+2 R0 FMAX M3\n13 L M99\n14 STOP M0\n15 CYCL DEF 5.0 KREISTASCHE\n16 CYCL DEF 5.1 ABST+1\n\
+                17 CYCL DEF 5.2 TIEFE-5\n18 CYCL DEF 5.3 ZUSTLG+3 F1000\n19 CYCL DEF 5.4 RADIUS10\n20 CYCL DEF 5.5 F500 DR+\n\
+                21 L X-60 Y+0 Z-5 R0 FMAX\n22 L X+40 F450\n23 RND R0,5\n24 L X+40 Y-18,376\n25 L Z+10 R0 FMAX M30\n26 END PGM R MM\n";
+    let (calls, diags) = run("heidenhain", text);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    // Surface 1 below the start (Z+2 less ABST 1), the hole 11.5 deep: its bottom at -10.5.
+    assert!(moves(&calls).iter().any(|m| m.starts_with("STRAIGHT_FEED(0.0000, 0.0000, -10.5000")), "{calls:?}");
+    // Words that are addresses stay addresses: `DL+0,2` in a tool call is not a name and value.
+    let (_, diags) = run("heidenhain", "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S100 DL+0,2 DR-0,1\n2 END PGM T MM\n");
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+}

@@ -520,6 +520,40 @@ fn a_dwell_in_seconds_tells_a_haas_program() {
     assert_eq!(Registry::shipped().sniff(&text, Some("PART.nc"), "fanuc").dialect, "fanuc");
 }
 
+/// A Fanuc code Haas has not (`G05 P10000`, high-precision contour control) tells a Fanuc
+/// program from a Haas one, whatever else the text has.
+#[test]
+fn a_high_precision_mode_tells_a_fanuc_program() {
+    let text = "%\nO0001\nT2M6\nS1070M3\nG53G0G90X5.Y1.\nG43Z1.35H2M8\nG05P10000\nG04P1.0\nG82X5.Y1.Z1.R1.1F2.1P500\nX4.\nG80\nM30\n%\n";
+    let sniffed = Registry::shipped().sniff(text, Some("part.ptp"), "fanuc");
+    assert_eq!(sniffed.dialect, "fanuc", "{sniffed:?}");
+    assert!(sniffed.evidence.iter().any(|e| e.contains("G05 P10000")), "{sniffed:?}");
+}
+
+/// A dwell's P with a decimal point (`G04 P2.`, `G89 ... P2.`): Fanuc stops with an alarm (P
+/// is a whole number of milliseconds), an error at the word; Haas reads it as seconds;
+/// LinuxCNC's P is seconds anyway; the makers whose manuals do not say keep P in their unit.
+#[test]
+fn a_dwell_p_with_a_decimal_point_by_control() {
+    let text = "O1\nG04 P1.5\nG04 P1500\nG89 X1. Y1. Z-1. R1. P2. F10.\nG80\nM30\n";
+    for dialect in ["fanuc", "fanuc_lathe"] {
+        let d = read(dialect, text);
+        let bad: Vec<_> = d.iter().filter(|x| x.code == Code::MalformedNumber && x.is_error()).collect();
+        assert!(bad.iter().any(|x| x.message.contains("`P1.5`")), "{dialect}: {d:?}");
+        assert!(!bad.iter().any(|x| x.message.contains("P1500")), "{dialect}: {d:?}");
+    }
+    assert!(read("fanuc", text).iter().any(|x| x.is_error() && x.message.contains("`P2.`")));
+    for dialect in ["haas", "haas_lathe", "mitsubishi", "mazak", "okuma", "lnc"] {
+        let d = read(dialect, text);
+        assert!(!d.iter().any(|x| x.code == Code::MalformedNumber), "{dialect}: {d:?}");
+    }
+    let dwells = |dialect: &str| -> Vec<String> {
+        run(dialect, "O1\nG04 P1.5\nG04 P1500\nM30\n").0.into_iter().filter(|c| c.starts_with("DWELL")).collect()
+    };
+    assert_eq!(dwells("haas"), ["DWELL(1.5000)", "DWELL(1.5000)"]);
+    assert_eq!(dwells("fanuc")[1], "DWELL(1.5000)");
+}
+
 /// A `(` inside a comment: LinuxCNC's rs274 stops with "Nested comment found" (NIST
 /// RS274NGC 3.3.4: comments may not be nested), so it is an error there and on PathPilot, which
 /// runs the same interpreter; a Fanuc-family reading ends the comment at its first `)` and finds

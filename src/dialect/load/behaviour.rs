@@ -3,7 +3,7 @@
 //! The door is `Cx::behaviour`; each attribute with words of its own has a reader.
 
 use super::super::xml::Element;
-use super::super::{AddressDef, Behaviour, DecimalInput, TapStyle, TimeUnit};
+use super::super::{AddressDef, Behaviour, DecimalInput, DwellPoint, TapStyle, TimeUnit};
 use super::Cx;
 use crate::canon::Plane;
 
@@ -48,6 +48,7 @@ const ATTRIBUTES: &[&str] = &[
     "lathe-tool-word",
     "initial-plane",
     "initial-retract",
+    "dwell-point",
     "same-group-codes",
     "machine-coords-rapid",
     "modes-under-comp",
@@ -59,6 +60,7 @@ fn defaults() -> Behaviour {
         decimal_input: DecimalInput::Calculator,
         decimal_input_stated: false,
         dwell_unit: TimeUnit::Seconds,
+        dwell_point: DwellPoint::Unit,
         tool_change_stops_spindle: true,
         tool_change_applies_length: false,
         machine_coords_rapid: false,
@@ -110,6 +112,7 @@ impl Cx {
         self.shape(el, ATTRIBUTES, &[]);
         b.decimal_input = self.decimal_input(el, addresses);
         b.dwell_unit = self.dwell_unit(el);
+        b.dwell_point = self.dwell_point(el);
         b.tool_change_stops_spindle = self.bool(el, "tool-change-stops-spindle", true);
         b.tool_change_applies_length = self.bool(el, "tool-change-applies-length", false);
         b.machine_coords_rapid = self.bool(el, "machine-coords-rapid", false);
@@ -175,6 +178,19 @@ impl Cx {
             other => {
                 self.error(Self::attr_range(el, "dwell-unit"), format!("unknown dwell-unit `{other}`"));
                 TimeUnit::Seconds
+            }
+        }
+    }
+
+    /// `dwell-point`: what a decimal point in a dwell's P does (`unit`, `seconds`, `alarm`).
+    fn dwell_point(&mut self, el: &Element) -> DwellPoint {
+        match self.attr(el, "dwell-point").unwrap_or("unit") {
+            "unit" => DwellPoint::Unit,
+            "seconds" => DwellPoint::Seconds,
+            "alarm" => DwellPoint::Alarm,
+            other => {
+                self.error(Self::attr_range(el, "dwell-point"), format!("unknown dwell-point `{other}`"));
+                DwellPoint::Unit
             }
         }
     }

@@ -28,6 +28,12 @@ impl Interpreter<'_> {
             })
         };
         let second = self.slot(Role::Extra).is_some_and(|v| (v - 0.2).abs() < 1e-9);
+        // A corner given by a Q parameter set outside the file (`BLK FORM 0.2 X+Q1`, which
+        // the TNC accepts): the blank is unknown, never one with a corner at 0.
+        if [Role::X, Role::Y, Role::Z].into_iter().any(|r| self.word_unknown(r)) {
+            self.st.blank_min = None;
+            return;
+        }
         match (second, self.st.blank_min) {
             (false, _) => self.st.blank_min = Some(corner(self, [0.0; 3])),
             (true, Some(min)) => {

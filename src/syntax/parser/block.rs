@@ -344,7 +344,7 @@ impl Lexer<'_, '_> {
     }
 
     /// After a continuation mark: steps over the line end. False when the line does not end here.
-    fn continue_line(&mut self) -> bool {
+    pub(super) fn continue_line(&mut self) -> bool {
         match self.peek() {
             Some(b'\r') => {
                 self.i += 1;

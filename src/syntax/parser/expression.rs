@@ -14,7 +14,7 @@ impl Lexer<'_, '_> {
     }
 
     pub(super) fn expect(&mut self, c: u8, what: &str, start: usize) -> bool {
-        self.skip_blanks();
+        self.skip_expr_blanks();
         if self.peek() == Some(c) {
             self.i += 1;
             true
@@ -25,11 +25,31 @@ impl Lexer<'_, '_> {
         }
     }
 
+    /// Blanks inside an expression, and the dialect's continuation mark at a line's end with
+    /// the line break after it: a TNC formula too long for one line goes on after `~` on the
+    /// next (`Q2 = COS ( Q4 ) * 27,73 + ( 5 * ~` / `SIN ( Q4 ) ) + 50`), as a cycle
+    /// definition's parameter lines do (TNC user's manual, "Programming Q parameters").
+    fn skip_expr_blanks(&mut self) {
+        self.skip_blanks();
+        let Some(k) = self.dialect.lexical.continuation else { return };
+        if self.peek() != Some(k as u8) {
+            return;
+        }
+        let save = self.i;
+        self.i += 1;
+        self.skip_blanks();
+        if self.continue_line() {
+            self.skip_blanks();
+        } else {
+            self.i = save;
+        }
+    }
+
     /// A full expression with binary operators, by precedence climbing.
     pub(super) fn expr(&mut self, depth: u32, min_prec: u8) -> Option<ExprId> {
         let mut lhs = self.unary(depth)?;
         loop {
-            self.skip_blanks();
+            self.skip_expr_blanks();
             let save = self.i;
             let Some(op) = self.binop() else { break };
             if op.precedence() < min_prec {
@@ -113,7 +133,7 @@ impl Lexer<'_, '_> {
             self.i = self.line_end();
             return None;
         }
-        self.skip_blanks();
+        self.skip_expr_blanks();
         let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
         let Some(c) = self.peek() else {
             self.error(Code::MalformedExpression, start, start, "expression ends early");

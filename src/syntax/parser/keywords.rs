@@ -165,7 +165,7 @@ impl Lexer<'_, '_> {
     /// cycle's sub-block number says which argument it is.
     fn value_after_name(&mut self) {
         let vstart = self.i;
-        if !self.bare_number_ends_line(vstart) {
+        if !(self.bare_number_ends_line(vstart) || self.in_sub_block() && self.sub_block_value(vstart)) {
             return;
         }
         if let Some((value, decimal)) = self.number() {
@@ -180,24 +180,24 @@ impl Lexer<'_, '_> {
         }
     }
 
-    /// Where the value starts in a name run into it (`V.IDO2` from `from` to `end`): a name
-    /// of two or more letters (dots between), not an address of the dictionary, then a bare
-    /// number that ends the line, in the sub-block of a legacy cycle the dictionary gives a
-    /// value there (`9.1`: cycle 9's dwell; `1.2`: cycle 1's depth), whatever the name's
-    /// language. `None` for anything else: `CYCL DEF 12.1 PGM SUB1` and `14.1 CONTOUR LABEL1`
-    /// name a program and a label, no value.
+    /// Where the value starts in a name run into it (`V.IDO2`, `ABST+1` from `from` to `end`):
+    /// a name of two or more letters (dots between), not an address of the dictionary, then
+    /// a number (sign optional, a decimal comma where the dialect has one) that ends the
+    /// line or is followed by address words, in the sub-block of a cycle (`CYCL DEF 9.1`,
+    /// `1.2`, `10.1 ROT+45`, `5.3 ZUSTLG+3 F1000`): the legacy cycles write each argument so,
+    /// after a name in the control's language (TNC 155/355/426 user's manuals, "Fixed
+    /// cycles"). `None` for anything else: `CYCL DEF 14.1 CONTOUR LABEL1 /2` names labels.
     fn glued_name_value(&self, from: usize, end: usize) -> Option<usize> {
-        let number = self.block.words.iter().rev().find(|w| w.role == Role::CycleNumber).and_then(|w| match w.value {
-            Value::Number { value, .. } => Some(value),
-            _ => None,
-        })?;
-        let sub = (number.fract() * 10.0).round();
-        let cycle = &self.dialect.cycles[self.dialect.cycle(&format!("{}", number.trunc()))?];
-        if sub < 1.0 || !cycle.args.iter().any(|a| a.sub.is_some_and(|s| f64::from(s) == sub)) {
+        if !self.in_sub_block() {
             return None;
         }
         let word = &self.b[from..end];
-        let split = word.iter().position(u8::is_ascii_digit)?;
+        // The name ends at the value's digits or sign (`TIEFE-11,5`: `-` runs on in a word).
+        let split = word.iter().position(|c| c.is_ascii_digit() || matches!(c, b'+' | b'-')).unwrap_or(word.len());
+        // A name alone is followed by its signed value (`ABST+1`).
+        if split == word.len() && !matches!(self.b.get(end), Some(b'+' | b'-')) {
+            return None;
+        }
         let name = &word[..split];
         let letters = name.iter().filter(|c| c.is_ascii_alphabetic()).count();
         if letters < 2 || !name.iter().all(|c| c.is_ascii_alphabetic() || *c == b'.') || !name[0].is_ascii_alphabetic() {
@@ -207,7 +207,104 @@ impl Lexer<'_, '_> {
         if self.dialect.addresses.iter().any(|a| a.name.as_bytes().eq_ignore_ascii_case(name)) {
             return None;
         }
-        self.bare_number_ends_line(from + split).then_some(from + split)
+        // Digits run into a name make a value only where the dictionary gives the sub-block
+        // one (`9.1 V.IDO2`): `12.1 PGM SUB1` and `14.1 CONTOUR LABEL1` are names. A sign
+        // never belongs to a name (`ABST+1`).
+        if word.get(split).is_some_and(u8::is_ascii_digit) && !self.sub_block_has_value() {
+            return None;
+        }
+        self.sub_block_value(from + split).then_some(from + split)
+    }
+
+    /// Whether the cycle of this sub-block is one the dictionary knows and gives this sub-block
+    /// a value (`CYCL DEF 1.2`: cycle 1's depth).
+    fn sub_block_has_value(&self) -> bool {
+        self.sub_block_cycle()
+            .is_some_and(|(ci, sub)| self.dialect.cycles[ci].args.iter().any(|a| a.sub.is_some_and(|s| f64::from(s) == sub)))
+    }
+
+    /// The dictionary's cycle of this sub-block and the sub-block's number (`1.2`: cycle 1,
+    /// 2); `None` where the block is no sub-block or the cycle is not in the dictionary.
+    fn sub_block_cycle(&self) -> Option<(usize, f64)> {
+        let number = self.block.words.iter().rev().find(|w| w.role == Role::CycleNumber).and_then(|w| match w.value {
+            Value::Number { value, .. } => Some(value),
+            _ => None,
+        })?;
+        let sub = (number.fract() * 10.0).round();
+        (sub >= 1.0).then_some(())?;
+        Some((self.dialect.cycle(&format!("{}", number.trunc()))?, sub))
+    }
+
+    /// Whether the block is the sub-block of a cycle definition (`CYCL DEF 1.2`, not `1.0`).
+    fn in_sub_block(&self) -> bool {
+        self.block.words.iter().rev().find(|w| w.role == Role::CycleNumber).is_some_and(|w| match w.value {
+            Value::Number { value, .. } => (value.fract() * 10.0).round() >= 1.0,
+            _ => false,
+        })
+    }
+
+    /// Whether a number starts at `at` (sign optional, digits with one decimal point, or
+    /// comma where the dialect writes one) and the line ends after it, or a comment, or
+    /// blanks and an address word (`ZUSTLG+3 F1000`).
+    fn sub_block_value(&self, at: usize) -> bool {
+        let b = self.b;
+        let mut j = at;
+        if matches!(b.get(j), Some(b'+' | b'-')) {
+            j += 1;
+        }
+        let comma = self.dialect.lexical.numbers.decimal_comma;
+        let (mut digits, mut points) = (0, 0);
+        while let Some(&c) = b.get(j) {
+            if c.is_ascii_digit() {
+                digits += 1;
+            } else if c == b'.' || (comma && c == b',' && b.get(j + 1).is_some_and(u8::is_ascii_digit)) {
+                points += 1;
+            } else {
+                break;
+            }
+            j += 1;
+        }
+        if digits == 0 || points > 1 {
+            return false;
+        }
+        let rest = &b[j..];
+        let blanks = rest.iter().take_while(|c| matches!(c, b' ' | b'\t')).count();
+        let after = &rest[blanks..];
+        match after.first() {
+            None | Some(b'\n' | b'\r') => true,
+            Some(c) if c.is_ascii_alphabetic() => blanks > 0,
+            Some(_) => self.dialect.lexical.comments.iter().any(|r| r.opens(after)),
+        }
+    }
+
+    /// Where a list of numbers ends that runs to the line's end (or a comment) in the
+    /// sub-block of a cycle (`CYCL DEF 14.1`): `1 /2 /3` or `1/2/3` after a name, with a `/`
+    /// at least; or a name of two letters or more run into the list's first number
+    /// (`LABEL1 /2`, `KONTURLABEL1`), the name no address of the dictionary. `None` for
+    /// anything else.
+    fn sub_block_list(&self, from: usize, end: usize, named: bool) -> Option<usize> {
+        if !self.in_sub_block() {
+            return None;
+        }
+        let word = &self.b[from..end];
+        let split = word.iter().position(u8::is_ascii_digit)?;
+        let name = &word[..split];
+        let glued = name.len() >= 2 && name.iter().all(u8::is_ascii_alphabetic);
+        if !(glued || named && name.is_empty()) {
+            return None;
+        }
+        if glued && self.dialect.addresses.iter().any(|a| a.name.as_bytes().eq_ignore_ascii_case(name)) {
+            return None;
+        }
+        // The numbers and slashes up to the line's end or a comment there.
+        let eol = self.b[from..].iter().position(|&c| c == b'\n' || c == b'\r').map_or(self.b.len(), |p| from + p);
+        let comments = &self.dialect.lexical.comments;
+        let stop = (from + split..eol).find(|&p| comments.iter().any(|r| r.opens(&self.b[p..eol]))).unwrap_or(eol);
+        let list = self.b[from + split..stop].trim_ascii_end();
+        let shape = list.iter().all(|c| c.is_ascii_digit() || matches!(c, b'/' | b' ' | b'\t'))
+            && list.split(|&c| c == b'/').all(|n| !n.trim_ascii().is_empty() && n.trim_ascii().iter().all(u8::is_ascii_digit));
+        let slashed = list.contains(&b'/');
+        (shape && (slashed || glued)).then_some(from + split + list.len())
     }
 
     /// Whether a bare number (`5`, `-15`, `.1181`, `+0.5`) starts at `at` and only blanks
@@ -249,8 +346,27 @@ impl Lexer<'_, '_> {
             // TNCs and posts write it (`9.1 TIME5`, the Hungarian `9.1 V.IDO2` of DWELL 2):
             // the name is read past and the number left as its value. Never an address word
             // (`X10`, `Q200`, `DR5`: a letter or the dictionary's address before the digits).
-            if mixed && let Some(split) = self.glued_name_value(from, end) {
+            // The sub-block of a cycle the dictionary does not know (`CYCL DEF 5.4 RADIUS10`,
+            // `10.1 ROT+45`): the definition is skipped with a warning, its words are its text.
+            if self.in_sub_block() && self.sub_block_cycle().is_none() {
+                self.i = self.rest_of_line_end();
+                named = true;
+                break;
+            }
+            let signed = !word.is_empty() && matches!(self.b.get(end), Some(b'+' | b'-'));
+            if (mixed || signed)
+                && let Some(split) = self.glued_name_value(from, end)
+            {
                 self.i = split;
+                named = true;
+                break;
+            }
+            // A list of numbers the TNC writes after a sub-block's name, `/` between them
+            // (`CYCL DEF 14.1 CONTOUR LABEL 1 /2 /3`, older `KONTURLABEL1 /2 /3`: the labels of
+            // the contour's subprograms, TNC cycle programming manual, cycle 14): read past
+            // whole, the interpreter reads the labels from the block's text.
+            if let Some(list_end) = self.sub_block_list(from, end, named) {
+                self.i = list_end;
                 named = true;
                 break;
             }
@@ -296,6 +412,11 @@ impl Lexer<'_, '_> {
                 || matches!(c, b'_' | b'.' | b'=' | b'(')
                 || (last.is_ascii_alphanumeric() && matches!(c, b'+' | b'-') && !takes_value)
                 || (!last.is_ascii_alphanumeric() && c.is_ascii_digit())
+                // A decimal comma goes on with the number (`RND R0,5` is R 0.5, not `R0`).
+                || (self.dialect.lexical.numbers.decimal_comma
+                    && c == b','
+                    && last.is_ascii_digit()
+                    && self.b.get(i + 1).is_some_and(u8::is_ascii_digit))
         });
         // A keyword spelt like an address (`Z`, the tool axis) is the address when a value follows.
         let is_address = self.dialect.addresses.iter().any(|a| a.name.eq_ignore_ascii_case(kw));

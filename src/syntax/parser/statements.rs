@@ -241,6 +241,17 @@ impl Lexer<'_, '_> {
             if end == start {
                 break;
             }
+            // `DEF REAL ANG`: a name the control already has (an address of its own: `ANG`,
+            // `RND`, `CHR`, `CR`, an axis) cannot be a user variable's; the 840D rejects the
+            // definition (SINUMERIK 840D sl Job Planning, "Definition of user variables": the
+            // name must not be one of the predefined identifiers).
+            let name = &self.text[start..end];
+            if self.dialect.addresses.iter().any(|a| a.name.eq_ignore_ascii_case(name)) {
+                let msg = format!("`{name}` is a name of the control's own (an address): a user variable cannot be defined with it");
+                self.error(Code::MalformedExpression, start, end, msg);
+                self.i = self.line_end();
+                return;
+            }
             self.i = end;
             self.skip_blanks();
             // `DEF REAL _RICH[4]`: a one-dimensional array whose elements start at 0.
