@@ -145,8 +145,8 @@ impl Interpreter<'_> {
     /// (`IPR`, `IPA`) adds to the distance and angle of `from`, the point the move starts at.
     pub(super) fn polar_target(&self, from: [f64; 6], t: &mut [f64; 6]) {
         let (a0, a1, _) = self.st.plane.axes();
-        // Fanuc G16 under G90: the pole is the work origin (incremental words are refused
-        // where they are read, `polar_roles`).
+        // Fanuc G16: the pole is the work origin (an incremental radius, which would move it,
+        // is refused where it is read, `polar_command_words`).
         let (px, py) = if self.st.polar_command { (0.0, 0.0) } else { self.st.pole };
         let (dx, dy) = (from[a0] - px, from[a1] - py);
         let polar = |role: Role, current: f64| match self.slots[role as usize] {

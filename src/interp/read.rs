@@ -97,9 +97,8 @@ impl Interpreter<'_> {
         // A mill's W (its quill) moves the tool as X, Y and Z do (`quill_word`).
         self.has_axes = self.filled & POSITION != 0 || (self.filled & 1 << Role::W as u32 != 0 && self.quill_moves_tool());
         // The motion code is known now, the modal one too (`has_axes`).
-        if let Some(c) = self.active_motion_code() {
-            self.polar_command_words(c, block, diags);
-        }
+        self.polar_command_words(block, diags);
+        self.fixed_point_number(diags);
         if ok {
             ok = self.check_params(block, diags);
         }
@@ -572,17 +571,19 @@ impl Interpreter<'_> {
 
     /// Fanuc `G16` (polar coordinate command) in force, or set by this block, and not ended by
     /// its `G15`: the move's or hole's first axis word of the plane is the radius, the second
-    /// the angle (in G17, X the radius and Y the angle), about the work origin under G90
-    /// (Fanuc 0i-MF operator's manual, "Polar coordinate command (G15, G16)"). An incremental
-    /// word makes the current position the pole, with the angle from the previous one: that
-    /// is not modelled, and said so (a translation refuses).
-    fn polar_command_words(&mut self, c: usize, block: &Block, diags: &mut Vec<Diagnostic>) {
+    /// the angle (in G17, X the radius and Y the angle), about the work origin (Fanuc 0i-MF
+    /// operator's manual, "Polar coordinate command (G15, G16)"). The block's own G90 / G91
+    /// decides: an incremental angle with the radius omitted adds to the angle of the current
+    /// position about the work origin (the manual's bolt circle `G91 Y120.`); an incremental
+    /// radius makes the current position the pole, which is not modelled and is said so (a
+    /// translation refuses). The axis words of a code that takes them itself (`G04`, `G10`,
+    /// `G52`, `G92`, `G68`, `G51`: the dictionary's parameters) and of a block in machine
+    /// coordinates (`G53`) are not polar (the manual's limitations); a reference return's
+    /// intermediate point (`G28`, `G30`) under G16 the manual does not settle, so it is said
+    /// and refused rather than guessed.
+    fn polar_command_words(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) {
         let has = |s: &Self, m: Meaning| s.codes.iter().any(|&(k, _)| s.code(k).meaning == m);
         if !(has(self, Meaning::Polar) || (self.st.polar_command && !has(self, Meaning::PolarOff))) {
-            return;
-        }
-        let m = self.code(c).meaning;
-        if !(matches!(m, Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw) || m.is_cycle()) {
             return;
         }
         let (a0, a1, _) = self.st.plane.axes();
@@ -591,13 +592,40 @@ impl Interpreter<'_> {
         if !given(self, r) && !given(self, a) {
             return;
         }
-        if (given(self, r) && self.incremental(r)) || (given(self, a) && self.incremental(a)) {
-            let d = motion_unknown(
-                block.text(block.range).trim(),
-                "an incremental polar coordinate command: the pole at the current position, the angle from the previous one",
-                block.range,
+        let refuse = |s: &mut Self, diags: &mut Vec<Diagnostic>, why: &str| {
+            let d = motion_unknown(block.text(block.range).trim(), why, block.range);
+            s.limited(diags, "motion-unknown", d);
+        };
+        if has(self, Meaning::Home1) || has(self, Meaning::Home2) {
+            refuse(
+                self,
+                diags,
+                "a reference return's intermediate point under the polar coordinate command, which the manual does not say is polar or not",
             );
-            self.limited(diags, "motion-unknown", d);
+            return;
+        }
+        if has(self, Meaning::MachineCoords) || has(self, Meaning::MachineBuilderCoords) {
+            return;
+        }
+        let Some(c) = self.active_motion_code() else { return };
+        let m = self.code(c).meaning;
+        if !(matches!(m, Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw) || m.is_cycle()) {
+            return;
+        }
+        // The distance mode this block moves in: the word's own, else the block's G90 / G91,
+        // else the one in force.
+        let block_mode = self.codes.iter().rev().find_map(|&(k, _)| match self.code(k).meaning {
+            Meaning::DistanceAbsolute => Some(false),
+            Meaning::DistanceIncremental => Some(true),
+            _ => None,
+        });
+        let incremental = |s: &Self, role: Role| match s.slots[role as usize].map(|w| w.mode) {
+            Some(WordMode::Absolute) => false,
+            Some(WordMode::Incremental) => true,
+            _ => block_mode.unwrap_or(s.st.distance == DistanceMode::Incremental),
+        };
+        if given(self, r) && incremental(self, r) {
+            refuse(self, diags, "an incremental polar radius: the pole at the current position, the angle from the previous one");
             return;
         }
         for (from, to) in [(r, Role::PolarRadius), (a, Role::PolarAngle)] {
@@ -606,6 +634,21 @@ impl Interpreter<'_> {
                 self.filled |= 1 << to as u32;
             }
         }
+    }
+
+    /// SINUMERIK `G75 FP=n`: the fixed point is 1 to 4 (840D sl programming manual, "Fixed
+    /// point approach"); another number the control alarms on, so it is an error at the word,
+    /// not a guess at fixed point 1.
+    fn fixed_point_number(&mut self, diags: &mut Vec<Diagnostic>) {
+        if !self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::FixedPointApproach) {
+            return;
+        }
+        let Some(s) = self.slots[Role::P as usize] else { return };
+        if s.value.fract() == 0.0 && (1.0..=4.0).contains(&s.value) {
+            return;
+        }
+        let msg = format!("fixed point {}: the fixed point approach takes 1 to 4; the control alarms on another number", s.value);
+        self.limited(diags, "bad-value", Diagnostic::new(Code::BadValue, s.range, msg));
     }
 
     /// Adds code `idx` to the block's codes; false (with a diagnostic) when its group already has one.

@@ -53,9 +53,11 @@ fn siemens_g74_goes_straight_to_the_reference_point_in_the_axes_it_names() {
     assert_eq!(m[0], (MachineTarget::Direct(1), [Some(0.0), None, Some(0.0), None, None, None]));
     assert_eq!(m[1], (MachineTarget::Direct(1), [None, None, Some(0.0), None, None, None]));
     // One traverse after the marker: no intermediate point at X0 Z0 (the values are ignored).
+    // The markers of what is known (`CanonOp::Known`) move nothing and are skipped.
     let at = c.iter().position(|c| matches!(c.op, CanonOp::MachineMove(_))).unwrap();
-    assert!(matches!(c[at + 1].op, CanonOp::StraightTraverse(_)), "{:?}", c[at + 1]);
-    assert!(matches!(c[at + 2].op, CanonOp::StraightTraverse(p) if p[0] == 40.0 && p[2] == 10.0), "{:?}", c[at + 2]);
+    let after: Vec<&Canon> = c[at + 1..].iter().filter(|c| !matches!(c.op, CanonOp::Known(_))).collect();
+    assert!(matches!(after[0].op, CanonOp::StraightTraverse(_)), "{:?}", after[0]);
+    assert!(matches!(after[1].op, CanonOp::StraightTraverse(p) if p[0] == 40.0 && p[2] == 10.0), "{:?}", after[1]);
 }
 
 /// Outside G74/G75 a machine axis name (`X1=10`) is read as its axis, said and refused:
@@ -163,6 +165,93 @@ fn fanuc_g16_with_incremental_words_is_said_and_refused() {
     let src = "G90 G17 G0 X0 Y0 Z10.\nG91 G16\nG0 X10. Y10.\nG90 G15\nM30\n";
     let (_, diags) = translate(src, &dialect("fanuc"), &dialect("linuxcnc"), "P1");
     assert!(errors(&diags).iter().any(|e| e.contains("post::motion-unknown") && e.contains("incremental polar")), "{diags:?}");
+}
+
+/// The axis words of G53 are machine positions, never polar (Fanuc: G04, G10, G52, G92, G53,
+/// G22, G68, G51 are not polar commands); the dwell's X is its time.
+#[test]
+fn fanuc_g53_under_g16_is_a_machine_move_not_a_polar_one() {
+    let src = "G21 G90 G17 G54\nG0 X0 Y0 Z10.\nG16\nG0 X50. Y30.\nG53 G0 X-100. Y-50.\nG4 X1.\nG1 Z-1. F100.\nG15\nM30\n";
+    let (moves, diags) = crate::moves_and_findings("fanuc", src, &Profile::default());
+    assert!(diags.iter().all(|d| d.code.as_str() != "interp::motion-unknown" && !d.is_error()), "{diags:?}");
+    // The polar move: radius 50 at 30 degrees.
+    assert!(moves.iter().any(|m| m.starts_with("STRAIGHT_TRAVERSE(43.3013, 25.0000, 10.0000")), "{moves:#?}");
+    // No move to the polar point of radius -100 at -50 degrees, nor one that reads -100 as X in the work frame only.
+    assert!(!moves.iter().any(|m| m.starts_with("STRAIGHT_TRAVERSE(-64.2788, 76.6044")), "{moves:#?}");
+    let (text, diags) = translate(src, &dialect("fanuc"), &dialect("linuxcnc"), "P1");
+    assert!(errors(&diags).is_empty(), "{diags:?}");
+    assert!(text.lines().any(|l| l.contains("G53") && l.contains("X-100") && l.contains("Y-50")), "{text}");
+    runs_the_same("fanuc", src, "linuxcnc", &text);
+}
+
+/// A reference return's intermediate point under G16: the manual does not settle it, so it
+/// is said and refused.
+#[test]
+fn fanuc_g28_with_plane_words_under_g16_is_refused() {
+    let src = "G21 G90 G17 G54\nG0 X0 Y0 Z10.\nG16\nG0 X50. Y30.\nG28 X50. Y30.\nG15\nM30\n";
+    let (_, diags) = translate(src, &dialect("fanuc"), &dialect("linuxcnc"), "P1");
+    assert!(errors(&diags).iter().any(|e| e.contains("post::motion-unknown") && e.contains("reference return")), "{diags:?}");
+}
+
+/// The block's own G90 / G91 decides whether its polar words are incremental, not the mode of
+/// the block before.
+#[test]
+fn fanuc_g16_reads_the_distance_mode_of_its_own_block() {
+    // G91 in the block: an incremental radius, refused (not read as radius 10 at 90 degrees).
+    let src = "G21 G90 G17 G54\nG0 X0 Y0 Z10.\nG0 X50. Y0.\nG16\nG91 G0 X10. Y90.\nG90 G15\nM30\n";
+    let (moves, _) = crate::moves_and_findings("fanuc", src, &Profile::default());
+    assert!(!moves.iter().any(|m| m.starts_with("STRAIGHT_TRAVERSE(0.0000, 10.0000")), "{moves:#?}");
+    let (_, diags) = translate(src, &dialect("fanuc"), &dialect("linuxcnc"), "P1");
+    assert!(errors(&diags).iter().any(|e| e.contains("post::motion-unknown") && e.contains("incremental polar")), "{diags:?}");
+    // G90 in the block after a G91 one: absolute, radius 50 at 60 degrees, nothing refused.
+    let src = "G21 G90 G17 G54\nG0 X0 Y0 Z10.\nG16\nG0 X50. Y30.\nG91 G0 Z-5.\nG90 G0 X50. Y60.\nG91 G0 Z5.\nG90 G15\nM30\n";
+    let (moves, diags) = crate::moves_and_findings("fanuc", src, &Profile::default());
+    assert!(diags.iter().all(|d| d.code.as_str() != "interp::motion-unknown" && !d.is_error()), "{diags:?}");
+    assert!(moves.iter().any(|m| m.starts_with("STRAIGHT_TRAVERSE(25.0000, 43.3013, 5.0000")), "{moves:#?}");
+    let (text, diags) = translate(src, &dialect("fanuc"), &dialect("linuxcnc"), "P1");
+    assert!(errors(&diags).is_empty(), "{diags:?}");
+    runs_the_same("fanuc", src, "linuxcnc", &text);
+}
+
+/// The manual's bolt circle: an omitted radius keeps the work origin the pole and the radius
+/// the last one; G91 adds to the angle. Holes at radius 100, angles 30, 150, 270.
+#[test]
+fn fanuc_g16_bolt_circle_with_incremental_angles() {
+    let src = "G21 G90 G17 G54\nG0 X0 Y0 Z10.\nG16\nG81 X100. Y30. Z-20. R-5. F200.\nG91 Y120.\nY120.\nG90 G80 G15\nM30\n";
+    let (c, diags) = canon("fanuc", src);
+    assert!(diags.iter().all(|d| d.code.as_str() != "interp::motion-unknown" && !d.is_error()), "{diags:?}");
+    let mut holes: Vec<(f64, f64)> = Vec::new();
+    for c in &c {
+        if let CanonOp::StraightFeed(p) = c.op {
+            let at = ((p[0] * 1e3).round() / 1e3, (p[1] * 1e3).round() / 1e3);
+            if holes.last() != Some(&at) {
+                holes.push(at);
+            }
+        }
+    }
+    let want: Vec<(f64, f64)> = [30.0f64, 150.0, 270.0]
+        .iter()
+        .map(|a| ((100.0 * a.to_radians().cos() * 1e3).round() / 1e3, (100.0 * a.to_radians().sin() * 1e3).round() / 1e3))
+        .collect();
+    assert_eq!(holes, want, "{c:?}");
+    let (text, diags) = translate(src, &dialect("fanuc"), &dialect("linuxcnc"), "P1");
+    assert!(errors(&diags).is_empty(), "{diags:?}");
+    runs_the_same("fanuc", src, "linuxcnc", &text);
+}
+
+/// `G75 FP=7`: the 840D takes fixed points 1 to 4 and alarms on another; an error at the word.
+#[test]
+fn siemens_g75_with_an_invalid_fixed_point_is_an_error_at_the_word() {
+    let src = "N10 G90 G0 X50 Z20\nN20 G75 FP=7 X1=0\nN30 M30\n";
+    let (_, diags) = canon("siemens", src);
+    let at = src.find("FP=7").unwrap();
+    assert!(
+        diags.iter().any(|d| d.is_error()
+            && d.code.as_str() == "interp::bad-value"
+            && d.range.start as usize <= at + 3
+            && d.range.end as usize > at),
+        "{diags:?}"
+    );
 }
 
 #[test]
