@@ -868,11 +868,15 @@ fn similarity(pa: &ProcessPlan, a: &Workingstep, pb: &ProcessPlan, b: &Workingst
     s += 0.4
         * match (a.bbox, b.bbox) {
             (Some(x), Some(y)) => {
-                // The plane the two spread over: XY, or XZ where neither leaves Y = 0 and one
+                // The plane the two spread over: XY, or XZ where both are turning workingsteps
+                // (the plan read them as a lathe's turning), neither leaves Y = 0 and one
                 // spreads along Z (a lathe's turning, whose Y is always 0: in XY no two of its
-                // workingsteps would ever overlap).
+                // workingsteps would ever overlap). A milling or drilling workingstep flat in
+                // Y is compared in XY as any other.
                 let flat = |bb: crate::plan::BBox, i: usize| bb.max[i] - bb.min[i] <= 1e-9;
-                let axes = if flat(x, 1) && flat(y, 1) && x.min[1] == y.min[1] && !(flat(x, 2) && flat(y, 2)) { [0, 2] } else { [0, 1] };
+                let turning = a.turning.is_some() && b.turning.is_some();
+                let xz = turning && flat(x, 1) && flat(y, 1) && x.min[1] == y.min[1] && !(flat(x, 2) && flat(y, 2));
+                let axes = if xz { [0, 2] } else { [0, 1] };
                 let inter: f64 = axes.iter().map(|&i| (x.max[i].min(y.max[i]) - x.min[i].max(y.min[i])).max(0.0)).product();
                 let area = |bb: crate::plan::BBox| axes.iter().map(|&i| (bb.max[i] - bb.min[i]).max(1e-3)).product::<f64>();
                 let union = area(x) + area(y) - inter;

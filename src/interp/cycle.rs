@@ -575,10 +575,14 @@ impl Interpreter<'_> {
         let named = |role: Role| def.args.iter().find(|(_, to)| *to == role).map(|(from, _)| *from);
         let (relief_x, relief_z) = (named(Role::X), named(Role::Z));
         let passes = named(Role::Passes).unwrap_or(Role::R);
-        // The first block of the two-block form gives the relief in its X and Z words (U, W);
-        // a one-block form in the words its args name (Haas I and K), with P and Q.
+        // The words of the allowances, as the args name them (Fanuc `U:allowance-x
+        // W:allowance-z`: U and W are X and Z words in G-code system A, words of their own in
+        // systems B and C), else the X and Z words.
+        let (allow_xw, allow_zw) = (named(Role::AllowanceX).unwrap_or(Role::X), named(Role::AllowanceZ).unwrap_or(Role::Z));
+        // The first block of the two-block form gives the relief in the allowances' words (U,
+        // W); a one-block form in the words its args name (Haas I and K), with P and Q.
         let with_contour = p.is_some() || q.is_some();
-        let (wx, wz) = if with_contour { (relief_x, relief_z) } else { (relief_x.or(Some(Role::X)), relief_z.or(Some(Role::Z))) };
+        let (wx, wz) = if with_contour { (relief_x, relief_z) } else { (relief_x.or(Some(allow_xw)), relief_z.or(Some(allow_zw))) };
         let stated = (wx.and_then(|r| written(self, r)), wz.and_then(|r| written(self, r)), written(self, passes));
         let stated = if with_contour && relief_x.is_none() { (None, None, None) } else { stated };
         if stated != (None, None, None) {
@@ -608,10 +612,9 @@ impl Interpreter<'_> {
             diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
             return;
         };
-        // With P and Q, U and W are the allowances, X on the diameter.
-        let x_word = self.slot(Role::X).unwrap_or(0.0);
-        let allow_x = if self.st.diameter { x_word } else { x_word / 2.0 };
-        let allow_z = self.slot(Role::Z).unwrap_or(0.0);
+        // With P and Q, U and W are the allowances, X on the diameter (as written).
+        let allow_x = written(self, allow_xw).unwrap_or(0.0) / 2.0;
+        let allow_z = written(self, allow_zw).unwrap_or(0.0);
         if ![pattern.relief_x, pattern.relief_z, allow_x, allow_z].iter().all(|v| v.is_finite()) {
             let msg = format!("{}: the relief and the allowances must be numbers; the cycle is skipped", def.label());
             diags.push(Diagnostic::new(Code::BadValue, range, msg));

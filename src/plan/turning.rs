@@ -1143,8 +1143,10 @@ fn one_groove(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
 /// A face grooving cycle (`G74` off the axis: pecks along -Z) and the passes the same tool
 /// then cuts in that groove, each plunged along -Z into the face and left back up along +Z
 /// (`face_plunges`), over diameters that take in the cycle's plunges (its walls and floor cut
-/// to size, a chamfer at its edge): one grooving operation, as a groove's plunge and its
-/// flanks are (`one_groove`), the groove as wide as all its passes' span.
+/// to size, a chamfer at its edge), each pass's radii reaching the cycle's or another such
+/// pass's without a gap: one grooving operation, as a groove's plunge and its flanks are
+/// (`one_groove`), the groove as wide as all its passes' span. (A separate plunge beside the
+/// groove is another groove: the tool's width, which would tell, is not in the program.)
 fn face_groove_walls(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     let pecks = |w: &Workingstep| {
         w.turning.as_deref().and_then(|t| t.intent.as_ref()).is_some_and(|i| i.kind == Some(TurnKind::FacePeck)) && w.holes.is_empty()
@@ -1167,7 +1169,9 @@ fn face_groove_walls(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
                 && prev.state.work_offset == ws.state.work_offset
                 && prev.technology.spindle_id == ws.technology.spindle_id
                 && !ws.state.stops.iter().any(|s| s.at == 0)
-                && face_plunges(prev).zip(face_plunges(&ws)).is_some_and(|(a, b)| a.lo >= b.lo - TOL && a.hi <= b.hi + TOL)
+                && face_plunges(prev)
+                    .zip(face_plunges(&ws))
+                    .is_some_and(|(a, b)| a.lo >= b.lo - TOL && a.hi <= b.hi + TOL && b.contiguous_with(a.lo, a.hi))
         });
         match out.last_mut() {
             Some(prev) if joins => {
@@ -1317,6 +1321,35 @@ struct FacePlunges {
     /// Some pass also cuts across X (at its floor), as a face groove is roughed wider than the
     /// tool before its walls are finished.
     across: bool,
+    /// Each pass's smallest and largest radius cut.
+    runs: Vec<(f64, f64)>,
+}
+
+impl FacePlunges {
+    /// Whether the passes, each joined to the radii `lo..hi` cut so far or to a pass that is,
+    /// all reach them without a gap: the same groove widened and its walls cut, not another
+    /// plunge beside it (with the tool's width unknown, a gap between cuts is another groove).
+    fn contiguous_with(&self, lo: f64, hi: f64) -> bool {
+        let (mut lo, mut hi) = (lo, hi);
+        let mut left: Vec<(f64, f64)> = self.runs.clone();
+        loop {
+            let before = left.len();
+            left.retain(|&(a, b)| {
+                let touches = a <= hi + TOL && b >= lo - TOL;
+                if touches {
+                    lo = lo.min(a);
+                    hi = hi.max(b);
+                }
+                !touches
+            });
+            if left.is_empty() {
+                return true;
+            }
+            if left.len() == before {
+                return false;
+            }
+        }
+    }
 }
 
 /// Whether every pass of a workingstep plunges along -Z into the face, off the axis, and
@@ -1336,7 +1369,7 @@ fn face_plunges(ws: &Workingstep) -> Option<FacePlunges> {
         return None;
     }
     let up = |m: &Move| m.arc.is_none() && (m.to[0] - m.from[0]).abs() < TOL && m.to[2] > m.from[2] + TOL;
-    let mut p = FacePlunges { floor: f64::INFINITY, lo: f64::INFINITY, hi: f64::NEG_INFINITY, across: false };
+    let mut p = FacePlunges { floor: f64::INFINITY, lo: f64::INFINITY, hi: f64::NEG_INFINITY, across: false, runs: Vec::new() };
     for &(a, b) in &spans {
         let run: Vec<Move> = moves[a..b].iter().filter(|m| is_cut(m)).copied().collect();
         let first = run.first()?;
@@ -1351,12 +1384,15 @@ fn face_plunges(ws: &Workingstep) -> Option<FacePlunges> {
         if !(run.last().is_some_and(up) || next.as_ref().is_some_and(up)) {
             return None;
         }
+        let mut span = (f64::INFINITY, f64::NEG_INFINITY);
         for m in &run {
             p.floor = p.floor.min(m.from[2].min(m.to[2]));
-            p.lo = p.lo.min(m.from[0].min(m.to[0]));
-            p.hi = p.hi.max(m.from[0].max(m.to[0]));
+            span = (span.0.min(m.from[0].min(m.to[0])), span.1.max(m.from[0].max(m.to[0])));
             p.across |= m.arc.is_some() || (m.to[0] - m.from[0]).abs() > TOL;
         }
+        p.lo = p.lo.min(span.0);
+        p.hi = p.hi.max(span.1);
+        p.runs.push(span);
     }
     Some(p)
 }

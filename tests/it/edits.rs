@@ -1678,3 +1678,30 @@ fn an_expression_after_an_address_without_equals_is_the_sinumerik_syntax_error()
     let d = registry.get("fanuc").unwrap();
     assert!(!pipeline::analyze(fanuc.as_bytes(), &d, &Profile::default()).diagnostics.iter().any(|x| x.is_error()));
 }
+
+#[test]
+fn workingsteps_are_compared_in_xz_only_when_both_turn() {
+    // A lathe's turning lies at Y = 0: its workingsteps are compared over X and Z (a finish
+    // that gains a rough before it stays the same finish). A milling workingstep that happens
+    // to stay at Y = 0 is compared in XY as any other: a short cut and a raster over the same
+    // X and Z (as LinuxCNC threading.ngc's thread pass and its spring passes) are two
+    // workingsteps, one removed and one added, not one changed.
+    let mut raster = String::from("G20 G90 G17\nT1 M6\nS100 M3\nG0 X-2 Y0 Z1\n");
+    for k in 0..10 {
+        raster.push_str(&format!("G1 Z{:.2} F5\nX2\nG0 Z1\nX-2\n", 0.9 - 0.04 * f64::from(k)));
+    }
+    raster.push_str("M30\n");
+    let pass = "G20 G90 G17\nT1 M6\nS100 M3\nG0 X-2 Y0 Z1\nG1 Z0.9 F5\nX2 Z0.5\nG0 Z1\nM30\n";
+    let rows = kind_rows(pass, &raster, "linuxcnc");
+    assert!(rows.iter().any(|r| r.starts_with("workingstep_removed")), "{rows:#?}");
+    assert!(rows.iter().any(|r| r.starts_with("workingstep_added")), "{rows:#?}");
+    let finish = "G21 G99\nT0101\nG97 S500 M3\nG0 X40. Z1.\nG1 Z0 F0.2\nX20. Z-20.\nG0 X50. Z5.\nM30\n";
+    let mut roughed = String::from("G21 G99\nT0101\nG97 S500 M3\nG0 X40. Z1.\n");
+    for k in 0..5 {
+        roughed.push_str(&format!("G1 X{:.1} F0.2\nZ-20.\nG0 X42.\nZ1.\n", 36.0 - 4.0 * f64::from(k)));
+    }
+    roughed.push_str("G0 X50. Z5.\nM30\n");
+    let rows = kind_rows(finish, &roughed, "fanuc_lathe");
+    assert_eq!(rows.iter().filter(|r| r.starts_with("workingstep_added")).count(), 1, "{rows:#?}");
+    assert!(!rows.iter().any(|r| r.starts_with("workingstep_removed")), "{rows:#?}");
+}

@@ -2583,6 +2583,26 @@ N10 G0 X20. Z2.\nG1 Z-7.\nX26. Z-15.\nZ-20.\nG3 X36. Z-25. R5.\nG1 Z-30.\nN20 X6
     assert_eq!(count, "cycle_parameter_changed | pattern_passes | 3 | 4\n");
 }
 
+/// G-code system B/C keeps G73's words: U and W are words of their own there (G91 moves
+/// incrementally), so the cycle reads its relief and allowances from them as system A does
+/// from its U and W, not from X and Z (which would give no relief and no allowances).
+#[test]
+fn g73_in_system_b_reads_its_u_and_w() {
+    let a = "O1\nG21 G99\nT0101\nG97 S500 M3\nG0 X80. Z2.\nG73 U14. W4. R3\nG73 P10 Q20 U1. W0.1 F0.3\n\
+N10 G0 X20. Z2.\nG1 Z-7.\nX26. Z-15.\nZ-20.\nG3 X36. Z-25. R5.\nG1 Z-30.\nN20 X60.\nG70 P10 Q20 F0.15\nG0 X100. Z50.\nM30\n";
+    let b = a.replace("G21 G99", "G21 G95");
+    let passes = [(24.5, -2.9), (17.5, -4.9), (10.5, -6.9)];
+    assert_eq!(first_cuts(a, "fanuc_lathe", "G73"), passes);
+    assert_eq!(first_cuts(&b, "fanuc_lathe_b", "G73"), passes);
+    let d = Registry::shipped().get("fanuc_lathe_b").unwrap();
+    let plan = pipeline::analyze(b.as_bytes(), &d, &Profile::default()).plan;
+    let intent = plan.workingsteps[0].turning.as_deref().and_then(|t| t.intent.clone()).unwrap();
+    assert_eq!(
+        (intent.allowance_x, intent.allowance_z, intent.relief, intent.divisions),
+        (Some(1.0), Some(0.1), Some([14.0, 4.0]), Some(3))
+    );
+}
+
 /// A face groove pecked by `G74` off the axis (Fanuc 0i-TF, G74 with X(U) and Z(W): pecks along
 /// Z) and then, by the same tool at its feed, its walls and floor cut to size (a plunge down
 /// each wall along -Z, across the floor, back up along +Z): one grooving operation that
@@ -2601,6 +2621,17 @@ X90.78\nG1 Z-3.8\nX90.04 Z-4.18\nZ-6.48\nX89.03\nG0 Z3.\nX87.91\nG1 Z-6.48\nX89.
         (feature_size(groove, "inner"), feature_size(groove, "outer"), feature_size(groove, "z")),
         (Some(87.91), Some(90.78), Some(-6.48))
     );
+    // Plunges of the same tool apart from the groove, with a gap to it (the tool's width not
+    // in the program), are no walls of it: the groove stays as the G74 cut it.
+    let apart = program.replace(
+        "X90.78\nG1 Z-3.8\nX90.04 Z-4.18\nZ-6.48\nX89.03\nG0 Z3.\nX87.91\nG1 Z-6.48\nX89.03\nG0 Z6.\n",
+        "G0 Z1.\nX80.\nG1 Z-4.\nG0 Z1.\nX100.\nG1 Z-4.\nG0 Z6.\n",
+    );
+    let plan = pipeline::analyze(apart.as_bytes(), &d, &Profile::default()).plan;
+    assert_eq!(plan.workingsteps.len(), 2, "{:?}", plan.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>());
+    let groove = plan.features.iter().find(|f| f.kind.label() == "face groove").expect("a face groove");
+    assert_eq!((feature_size(groove, "inner"), feature_size(groove, "outer")), (Some(89.0), Some(89.0)));
+    assert_eq!(groove.workingsteps, [1]);
 }
 
 /// One pass fed along -Z down to the front and then across towards the axis, stopping short of
