@@ -650,6 +650,11 @@ pub enum CanonOp {
     /// An incremental move of an unknown axis leaves it unknown: its positions in the stream
     /// are counted from an assumed 0, which a writer must never state. Not printed.
     Known(u8),
+    /// Marker: a coordinate set (`G92`, a lathe's `G50 X.. Z..`) of axes whose position the
+    /// program does not know (bit `k` for axis `k`): the shift it makes is counted from an
+    /// assumed position, so the positions that follow are known in no frame a writer could
+    /// state. Not printed.
+    ShiftUnknown(u8),
     /// Marker: the tilted working plane in force from here (see [`Frame`]), `None` when
     /// untilted again. The moves that follow stay in the tilted plane's coordinates.
     WorkPlane(Option<Box<Frame>>),
@@ -994,7 +999,7 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::NurbsFeed { points, .. } => put(out, format_args!("NURBS_FEED({points}, ...)")),
         CanonOp::WaitOrientComplete(t) => put(out, format_args!("SPINDLE.0.WAIT_ORIENT_COMPLETE({})", F4(*t))),
         // A writer's and a check's marker, not a call: no line.
-        CanonOp::Known(_) => return,
+        CanonOp::Known(_) | CanonOp::ShiftUnknown(_) => return,
     }
     out.push(b'\n');
 }

@@ -158,6 +158,10 @@ pub struct Trace {
     /// The axes whose position the program knows ([`CanonOp::Known`]; none at the start, and
     /// a machine-frame move's axes none after it).
     known: u8,
+    /// The index of the move that starts where an axis just became known (`usize::MAX`:
+    /// none): its start on that axis counts from an assumed number, so no rapid after it is
+    /// merged into it (which would depend on that number).
+    fresh: usize,
     /// Seconds dwelt since the last move: the next move's [`Move::dwell`], or, at the end,
     /// the dwell after the last move.
     dwell: f64,
@@ -192,6 +196,7 @@ impl Trace {
             axis: [0.0, 0.0, 1.0],
             machine: None,
             known: 0,
+            fresh: usize::MAX,
             dwell: 0.0,
             ended: false,
             origin: TextRange::default(),
@@ -287,6 +292,7 @@ impl Trace {
         let pos = self.pos;
         let merged = rapid
             && self.dwell == 0.0
+            && self.moves.len().checked_sub(1) != Some(self.fresh)
             && self.moves.last().is_some_and(|l| {
                 let (u, v) = (sub(to, l.from), sub(to, pos));
                 l.kind == Kind::Rapid
@@ -389,7 +395,12 @@ impl CanonSink for Trace {
             }
             CanonOp::SelectPlane(p) => self.plane = *p,
             CanonOp::ToolAxis(v) => self.axis = *v,
-            CanonOp::Known(m) => self.known = *m,
+            CanonOp::Known(m) => {
+                if *m & !self.known != 0 {
+                    self.fresh = self.moves.len();
+                }
+                self.known = *m;
+            }
             CanonOp::SetG92Offset(o) => {
                 self.shifts[0] = [o[0] * self.scale, o[1] * self.scale, o[2] * self.scale];
                 self.refresh_g92();
@@ -594,7 +605,13 @@ pub fn difference(ta: &Trace, tb: &Trace, tol: f64) -> Option<Difference> {
             );
         }
         if !m.kind.is_arc() {
-            if n.kind != m.kind || !near(m.to, n.to, tol) || !near(m.abc, n.abc, tol) {
+            // An axis neither side knows the position of has no number to compare: each side's
+            // counts from an assumed one, which a frame change the target is not told of
+            // (`G10 L2` values before any move) moves. Its words are never written, and a move
+            // of it is refused by the writer (`post::unknown-start`).
+            let unknown = if matches!(m.kind, Kind::Rapid | Kind::Feed) { !m.known & !n.known } else { 0 };
+            let mask = |p: [f64; 3], first: usize| std::array::from_fn(|k| if unknown & 1 << (k + first) != 0 { f64::NAN } else { p[k] });
+            if n.kind != m.kind || !near(mask(m.to, 0), mask(n.to, 0), tol) || !near(mask(m.abc, 3), mask(n.abc, 3), tol) {
                 return differ(m, Some(n), format!("{} to {} became {} to {}", m.kind.label(), fmt(m.to), n.kind.label(), fmt(n.to)));
             }
         } else if let Err(what) = arc_pieces(m, &b[j..], tol).map(|k| j += k - 1) {

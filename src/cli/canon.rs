@@ -131,7 +131,7 @@ impl<W: Write> Printer<'_, W> {
 impl<W: Write> CanonSink for Printer<'_, W> {
     fn emit(&mut self, canon: Canon) {
         // A writer's marker prints no call.
-        if self.error.is_some() || matches!(canon.op, CanonOp::Known(_)) {
+        if self.error.is_some() || matches!(canon.op, CanonOp::Known(_) | CanonOp::ShiftUnknown(_)) {
             return;
         }
         if !self.lines {

@@ -1358,6 +1358,12 @@ impl<'a> Interpreter<'a> {
     /// changes what the stream was last told, a [`CanonOp::Known`] marker goes first.
     #[inline(always)]
     fn mark_known(&self, sink: &mut dyn CanonSink) {
+        // Axes lost since the stream was last told (`position_lost`) go first, so that one
+        // the block states again is written again.
+        if self.known_sent.get() & !self.known.get() != 0 {
+            self.known_sent.set(self.known.get());
+            self.emit(sink, CanonOp::Known(self.known.get()));
+        }
         let k = self.known.get() | self.stated.get();
         self.known.set(k);
         if k != self.known_sent.get() {
@@ -1401,6 +1407,26 @@ impl<'a> Interpreter<'a> {
     pub(super) fn position_lost(&self) {
         self.known.set(0);
         self.stated.set(0);
+    }
+
+    /// `axes` (bit `k` for axis `k`) are unknown from here, and the stream is told at once: a
+    /// change of work offset (its values unknown to the reading: every axis), a tool change or
+    /// a length offset change (the tool axis). The next word stating one is written whatever
+    /// was written last; an incremental move of one before that is counted from nothing known.
+    pub(in crate::interp) fn forget(&self, axes: u8, sink: &mut dyn CanonSink) {
+        self.known.set(self.known.get() & !axes);
+        self.stated.set(self.stated.get() & !axes);
+        let k = self.known.get();
+        if k != self.known_sent.get() {
+            self.known_sent.set(k);
+            self.emit(sink, CanonOp::Known(k));
+        }
+    }
+
+    /// Whether the program knows the position of axis `k` (a word of the block being executed
+    /// stating it absolutely counts).
+    pub(in crate::interp) fn knows(&self, k: usize) -> bool {
+        (self.known.get() | self.stated.get()) & 1 << k != 0
     }
 
     fn emit(&self, sink: &mut dyn CanonSink, op: CanonOp) {
@@ -1475,7 +1501,7 @@ impl<'a> Interpreter<'a> {
     #[inline(always)]
     fn emit_straight(&self, sink: &mut dyn CanonSink, rapid: bool, to: [f64; 6], staged: bool) {
         let op = |to| if rapid { CanonOp::StraightTraverse(to) } else { CanonOp::StraightFeed(to) };
-        if self.known.get() | self.stated.get() != self.known_sent.get() {
+        if self.known.get() | self.stated.get() != self.known_sent.get() || self.known_sent.get() & !self.known.get() != 0 {
             self.mark_known(sink);
         }
         if staged {

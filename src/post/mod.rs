@@ -1979,6 +1979,12 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 self.know(*m);
                 return;
             }
+            CanonOp::ShiftUnknown(m) => {
+                if !self.ended {
+                    self.shift_unknown(canon, *m);
+                }
+                return;
+            }
             _ => {}
         }
         if canon.line != self.line && canon.line > 0 && !self.ended {
@@ -2100,6 +2106,20 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             );
             self.note(Code::PostUnknownStart, canon, "unknown-start", msg);
         }
+    }
+
+    /// A coordinate set (`G92`, `G50 X.. Z..`) of axes `m` whose position the source does not
+    /// know: the shift is counted from an assumed position, so neither the positions written
+    /// in the work offset's frame nor a shift stated by the target would be the program's.
+    /// No target's output rules write a coordinate set, so the translation is refused.
+    fn shift_unknown(&mut self, canon: &Canon, m: u8) {
+        const NAMES: [&str; 6] = ["X", "Y", "Z", "A", "B", "C"];
+        let axes: Vec<&str> = (0..6).filter(|&k| m & 1 << k != 0).map(|k| NAMES[k]).collect();
+        let msg = format!(
+            "the translation is refused: the program sets its coordinates (G92, G50) of {} where it does not know the position (no absolute word for it since the start, a reference return, a tool or work offset change); the shift is counted from an assumed position, and the target's output rules write no coordinate set",
+            axes.join(" ")
+        );
+        self.note(Code::PostUnknownStart, canon, "unknown-start", msg);
     }
 
     /// The values of the axes whose position the source does not know taken out of `vals`

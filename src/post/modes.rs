@@ -196,7 +196,22 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// Writes an offset op: a work offset put in force (or its values changed), a shift.
     pub(super) fn offset_op(&mut self, canon: &Canon) {
         match &canon.op {
-            CanonOp::SetG5xOffset(i, v) => self.work_offset(canon, i, v),
+            CanonOp::SetG5xOffset(i, v) => {
+                // An axis whose position is unknown stays where it was: its number in the new
+                // frame moves by the offsets' difference, as the source's does (not a move).
+                let (old, known) = (self.wcs_now, self.known);
+                for (k, (was, now)) in old.iter().zip(v.iter()).enumerate() {
+                    if known & 1 << k == 0 {
+                        if k < 3 {
+                            let d = self.to_out(was - now);
+                            self.pos[k] += d;
+                        } else {
+                            self.abc[k - 3] += was - now;
+                        }
+                    }
+                }
+                self.work_offset(canon, i, v);
+            }
             // Stated though in force: written where the target has not written it yet.
             CanonOp::Setting(Setting::WorkOffset(i)) => {
                 let v = self.wcs_now;

@@ -195,3 +195,91 @@ fn an_incremental_move_from_an_unknown_start_is_refused_never_counted_from_zero(
         refused[0].message
     );
 }
+
+/// The source lines `post::unknown-start` refuses a translation at.
+fn refused_lines(src: &str, from: &str, to: &str) -> Vec<usize> {
+    let mut lines: Vec<usize> = unknown_start(src, from, to).into_iter().map(|(l, _)| l).collect();
+    lines.dedup();
+    lines
+}
+
+/// The written block after the first one containing `after` that names `axis`, and the
+/// blocks between.
+fn block_after<'a>(out: &'a str, after: &str) -> Vec<&'a str> {
+    let lines: Vec<&str> = out.lines().collect();
+    let at = lines.iter().position(|l| l.contains(after)).unwrap_or_else(|| panic!("no {after:?} in:\n{out}"));
+    lines[at..].to_vec()
+}
+
+#[test]
+fn a_coordinate_set_where_the_position_is_unknown_is_refused() {
+    // G92 before any absolute word: rs274 sets the shift and moves nothing; written in the
+    // work offset's frame it would be a move counted from an assumed 0.
+    let g92 = "O1000\nG21 G17\nG90 G92 X10. Y10.\nG0 X10. Y10.\nG1 X20. F100.\nM30\n";
+    for to in MILLS {
+        assert_eq!(refused_lines(g92, "fanuc", to), vec![3], "{to}");
+    }
+    // After a reference return of the axis set.
+    let homed = "O1000\nG28 G91 Z0.\nG90 G54 G0 X0. Y0.\nG92 Z100.\nG1 X10. F100.\nM30\n";
+    assert_eq!(refused_lines(homed, "fanuc", "haas"), vec![4]);
+    // A lathe's G50 X.. Z.. before any position is known.
+    let lathe = "O2002\nG50 X200. Z100.\nT0101\nG0 X50. Z2.\nG1 Z-20. F0.2\nM30\n";
+    assert_eq!(refused_lines(lathe, "fanuc_lathe", "haas_lathe"), vec![2]);
+    // Where every axis set is known, the shift is applied to the positions written.
+    let known = "O1000\nG21 G17 G90 G54\nG0 X0. Y0. Z50.\nG92 X10. Y10.\nG0 X20. Y10.\nM30\n";
+    for to in MILLS {
+        assert_eq!(refused_lines(known, "fanuc", to), Vec::<usize>::new(), "{to}");
+    }
+}
+
+#[test]
+fn a_work_offset_change_makes_every_axis_unknown_in_the_new_frame() {
+    // G55's offsets are the control's: the rapid to X0 Y0 in it is a move, written though
+    // the words equal the last written ones.
+    let src = "O1001\nG21 G17\nG90 G54 G0 X0. Y0. Z50.\nG55\nG0 X0. Y0.\nG1 Z-1. F100.\nM30\n";
+    for to in ["haas", "fanuc", "linuxcnc", "mitsubishi"] {
+        let (out, diags) = translate(src, "fanuc", to);
+        assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{to}:\n{out}");
+        let after = block_after(&out, "G55");
+        let xy = after.iter().find(|l| names_axis(l, 'X')).unwrap_or_else(|| panic!("{to}: the rapid in G55 is lost:\n{out}"));
+        assert!(names_axis(xy, 'Y') && !l_has(xy, "G1"), "{to}: {xy:?}:\n{out}");
+        assert!(after.iter().any(|l| l.contains("Z-1")), "{to}:\n{out}");
+    }
+    // An incremental move in the new frame before an absolute one is refused.
+    let inc = "O1001\nG21 G17\nG90 G54 G0 X0. Y0. Z50.\nG55\nG91 G0 X10.\nG90 G0 X0. Y0. Z50.\nM30\n";
+    assert_eq!(refused_lines(inc, "fanuc", "haas"), vec![5]);
+    // Known again from the absolute words: an incremental move after them is a move.
+    let after = "O1001\nG21 G17\nG90 G54 G0 X0. Y0. Z50.\nG55\nG0 X0. Y0. Z50.\nG91 G1 X10. F100.\nG90\nM30\n";
+    assert_eq!(refused_lines(after, "fanuc", "haas"), Vec::<usize>::new());
+}
+
+fn l_has(line: &str, word: &str) -> bool {
+    words(line).contains(&word)
+}
+
+#[test]
+fn a_tool_or_length_offset_change_makes_z_unknown() {
+    let src = "O1002\nG21 G17\nT1 M6\nG90 G54 G0 X0. Y0.\nG43 H1 Z10.\nG1 Z5. F100.\nG0 Z10.\nT2 M6\nG43 H2 Z10.\nG1 X10.\nM30\n";
+    for to in ["haas", "fanuc", "linuxcnc", "mitsubishi"] {
+        let (out, diags) = translate(src, "fanuc", to);
+        assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{to}:\n{out}");
+        let after = block_after(&out, "H2");
+        assert!(names_axis(after[0], 'Z'), "{to}: the second tool's Z10. is lost: {:?}:\n{out}", after[0]);
+    }
+    // An incremental Z after the change, before an absolute one, is refused.
+    let inc = "O1002\nG21 G17\nT1 M6\nG90 G54 G0 X0. Y0. Z10.\nT2 M6\nG91 G0 Z-5.\nG90 G0 Z10.\nM30\n";
+    assert_eq!(refused_lines(inc, "fanuc", "haas"), vec![6]);
+}
+
+#[test]
+fn a_frame_change_without_motion_is_no_incremental_move() {
+    // The active offset's values set before any move: X5. Y0. then G43 Z50. are written.
+    let g10 = "O1010\nG10 L2 P1 X-100. Y-100. Z-500.\nT1 M6\nG0 G54 X5. Y0.\nG43 Z50. H1\nG1 Z-1. F100.\nM30\n";
+    let (out, diags) = translate(g10, "haas", "fanuc");
+    assert_eq!(refused_lines(g10, "haas", "fanuc"), Vec::<usize>::new(), "{diags:?}\n{out}");
+    assert!(out.lines().any(|l| l.contains("X5.") && l.contains("Y0.")), "{out}");
+    assert!(out.lines().any(|l| l.contains("G43") && l.contains("Z50.")), "{out}");
+    // G55 after a reference return: the returned axes stay unknown, no move of them.
+    let g28 = "O1012\nG10 L2 P2 X50. Y0. Z0.\nG90 G54 G0 X0. Y0. Z50.\nG91 G28 X0. Y0.\nG90 G55\nG0 Z20.\nM30\n";
+    assert_eq!(refused_lines(g28, "fanuc", "haas"), Vec::<usize>::new());
+}

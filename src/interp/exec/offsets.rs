@@ -125,6 +125,9 @@ impl Interpreter<'_> {
             }
         }
         if index == self.st.wcs {
+            // The active frame moves: no axis's position is known in it (whatever the control
+            // held before, the program's positions in it are the control's).
+            self.forget(crate::canon::ALL_KNOWN, sink);
             self.switch_wcs(|st| st.set_offset(index, off, rotation));
             self.emit(sink, CanonOp::SetG5xOffset(index, off));
         } else {
@@ -252,6 +255,8 @@ impl Interpreter<'_> {
     /// Makes work coordinate system `index` (1 for G54) the active one.
     pub(in crate::interp) fn select_wcs(&mut self, index: u16, sink: &mut dyn CanonSink) {
         let new = self.st.offset(index);
+        // The offsets are the control's: in the new frame no axis's position is known.
+        self.forget(crate::canon::ALL_KNOWN, sink);
         self.switch_wcs(|st| st.wcs = index);
         self.emit(sink, CanonOp::SetG5xOffset(index, new));
         // LinuxCNC restates the G92 offset with every switch of system.
@@ -282,6 +287,16 @@ impl Interpreter<'_> {
     /// G92 (and a lathe's `G50 X.. Z..`): the shift that makes the current point read the
     /// block's axis words.
     pub(super) fn origin_shift(&mut self, sink: &mut dyn CanonSink) {
+        // A shift set where the axis's position is unknown is counted from an assumed one.
+        let mut unknown = 0u8;
+        for (i, &role) in Role::AXES.iter().enumerate() {
+            if self.slot(role).is_some() && !self.knows(i) {
+                unknown |= 1 << i;
+            }
+        }
+        if unknown != 0 {
+            self.emit(sink, CanonOp::ShiftUnknown(unknown));
+        }
         for (i, &role) in Role::AXES.iter().enumerate() {
             if let Some(v) = self.slot(role) {
                 let machine_rel = self.st.pos[i] + self.st.g92[i];

@@ -13,6 +13,9 @@ use crate::interp::{Interpreter, Spindle, rotate};
 use crate::syntax::Block;
 use crate::text::TextRange;
 
+/// The tool axis's bit in the known-position mask (`CanonOp::Known`): Z.
+const TOOL_AXIS: u8 = 1 << 2;
+
 impl Interpreter<'_> {
     /// The tool-select step: the block's T word, when it is a tool number.
     pub(super) fn tool_select(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
@@ -90,6 +93,7 @@ impl Interpreter<'_> {
         }
         if tool != self.st.tool {
             self.st.tool = tool;
+            self.forget(TOOL_AXIS, sink);
             self.emit(sink, CanonOp::ChangeTool(tool));
         }
         let offsets = match offset {
@@ -99,6 +103,7 @@ impl Interpreter<'_> {
         };
         if offsets != self.st.tool_offset {
             self.st.tool_offset = offsets;
+            self.forget(TOOL_AXIS, sink);
             self.emit(sink, CanonOp::UseToolLengthOffset(offsets));
         }
     }
@@ -118,6 +123,8 @@ impl Interpreter<'_> {
         }
         self.st.tool = self.st.selected_tool;
         self.st.tool_commanded = true;
+        // Most machines move Z to the change position: where it is after is the control's.
+        self.forget(TOOL_AXIS, sink);
         self.emit(sink, CanonOp::ChangeTool(self.st.tool));
         if let Some(next) = self.slot(Role::NextTool).filter(|t| *t >= 0.0 && t.fract() == 0.0) {
             self.st.selected_tool = next as u32;
@@ -127,6 +134,7 @@ impl Interpreter<'_> {
             // A tool change that applies the length (Siemens D, Heidenhain TOOL CALL)
             // keeps the program position: such programs place Z after the call.
             self.st.tool_offset = self.tool_offsets(self.st.tool);
+            self.forget(TOOL_AXIS, sink);
             self.emit(sink, CanonOp::UseToolLengthOffset(self.st.tool_offset));
         }
     }
@@ -184,6 +192,8 @@ impl Interpreter<'_> {
             *p -= d;
         }
         self.st.tool_offset = offsets;
+        // The length is the control's (its table): the tool tip's Z is unknown until stated.
+        self.forget(TOOL_AXIS, sink);
         self.emit(sink, CanonOp::UseToolLengthOffset(offsets));
     }
 
