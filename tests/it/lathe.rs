@@ -881,7 +881,10 @@ fn lathe_s7_held_out_programs() {
 /// over a dome; `G71` with seven `G92` thread passes M36x1.5; and `G71`, a two-block `G76`
 /// M20x1.5 at 55° and a cut-off, two of them finishing through an undercut subprogram not in the
 /// file. Fanuc-type controls only (no unused program of another lathe control was found in the
-/// index). Only the sidecars are committed; written before ncplan ran on them. Not yet measured.
+/// index). Only the sidecars are committed; written before ncplan ran on them. Measured once on
+/// 7 December 2026 (integrate c2111971): 57 of 60, no milling feature; the misses: the
+/// two-sided part's groove by three `G75` plunges (no grooving rough found in its place), and
+/// O0121's contouring finish and cut-off (not found in the order listed).
 ///
 /// `tests/programs/lathe_s18b_heldout/` is sweep 18's second held-back set (branch gather18c: 6
 /// programs of 1 repository, 12 items), files no test used of a repository earlier sets drew on
@@ -891,8 +894,11 @@ fn lathe_s7_held_out_programs() {
 /// two mill-turn programs on a turned Ø80: three radial holes drilled by `MCALL CYCLE82` over
 /// `HOLES1` under `CYCLE800` and `TRACYL`, and a `POCKET3` pocket on the face under `TRANSMIT`.
 /// No unused program of another lathe family (Okuma, Mazak, Mitsubishi, Fagor, Haas) was found
-/// in the index. Only the sidecars are committed; written before ncplan ran on them. Not yet
-/// measured.
+/// in the index. Only the sidecars are committed; written before ncplan ran on them. Measured
+/// once on 7 December 2026 (integrate c2111971): 4 of 11 items the test counts, no milling
+/// feature; the misses: the four `CYCLE952` roughings and the finish of contours held in the
+/// `CYCLE62` programs beside them (not read with the file: no workingstep), the `POCKET3` pocket
+/// under `TRANSMIT` and the `MCALL CYCLE82` drilling under `TRACYL`.
 ///
 /// `tests/programs/lathe_build16/` is branch lathe22's own build set (see `lathe_build16_programs`).
 #[test]
