@@ -393,13 +393,13 @@ fn siemens_arrays_and_system_variable_indexes() {
     let program = "\
 DEF REAL _RICH[4]
 DEF INT VAR5[3]
-DEF INT I
+DEF INT IDX
 R2=1
 _RICH[0]=5 _RICH[1]=3
 VAR5[R2]=_RICH[0]+1
 G0 X0 Y0 Z5
-FOR I=0 TO _RICH[1]-1
-G1 X=VAR5[1]*I F100
+FOR IDX=0 TO _RICH[1]-1
+G1 X=VAR5[1]*IDX F100
 ENDFOR
 IF $TC_SCP13[$P_TOOLNO,1]>0
 G0 Z50
