@@ -1084,6 +1084,26 @@ fn join(prev: &mut Workingstep, ws: Workingstep) {
     prev.lines = (prev.lines.0.min(ws.lines.0), prev.lines.1.max(ws.lines.1));
 }
 
+/// Passes as moves: no cycle, no thread (the depth of cut `group_passes` read between
+/// straight passes is no cycle's), no holes.
+fn explicit_passes(w: &Workingstep) -> bool {
+    w.turning.as_deref().is_some_and(|t| {
+        t.intent.as_ref().is_none_or(|i| *i == crate::canon::TurnIntent { depth_of_cut: i.depth_of_cut, ..Default::default() })
+            && t.cycle.is_none()
+            && t.pitch.is_none()
+    }) && w.holes.is_empty()
+}
+
+/// `ws` runs on from `prev` on the same machine state: the same tool, setup, work offset and
+/// spindle, and no stop at its start.
+fn same_run(prev: &Workingstep, ws: &Workingstep) -> bool {
+    prev.tool == ws.tool
+        && prev.setup == ws.setup
+        && prev.state.work_offset == ws.state.work_offset
+        && prev.technology.spindle_id == ws.technology.spindle_id
+        && !ws.state.stops.iter().any(|s| s.at == 0)
+}
+
 /// The passes of one groove, as turners and posts cut a groove wider than the tool: plunge to
 /// the floor, back out, step over and plunge again (Fanuc's `G75` grooving cycle shifts
 /// along Z between its plunges in the same way), then finish each flank down to the floor.
@@ -1092,15 +1112,6 @@ fn join(prev: &mut Workingstep, ws: Workingstep) {
 /// over one groove (their Z stretches overlapping, from the same side) is no new operation.
 /// Consecutive workingsteps of one tool made of such passes are joined into one.
 fn one_groove(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
-    // Passes as moves (no cycle; the depth of cut `group_passes` read between straight passes
-    // is no cycle's).
-    let explicit = |w: &Workingstep| {
-        w.turning.as_deref().is_some_and(|t| {
-            t.intent.as_ref().is_none_or(|i| *i == crate::canon::TurnIntent { depth_of_cut: i.depth_of_cut, ..Default::default() })
-                && t.cycle.is_none()
-                && t.pitch.is_none()
-        }) && w.holes.is_empty()
-    };
     let stated = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.stated);
     let mut out: Vec<Workingstep> = Vec::new();
     let input = std::mem::take(&mut plan.workingsteps);
@@ -1110,13 +1121,9 @@ fn one_groove(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     for (i, ws) in input.into_iter().enumerate() {
         let after = firsts.get(i + 1).copied().flatten();
         let joins = out.last().is_some_and(|prev| {
-            explicit(prev)
-                && explicit(&ws)
-                && prev.tool == ws.tool
-                && prev.setup == ws.setup
-                && prev.state.work_offset == ws.state.work_offset
-                && prev.technology.spindle_id == ws.technology.spindle_id
-                && !ws.state.stops.iter().any(|s| s.at == 0)
+            explicit_passes(prev)
+                && explicit_passes(&ws)
+                && same_run(prev, &ws)
                 && (stated(&ws).is_none() || stated(&ws) == stated(prev))
                 && groove_passes(prev, firsts[i])
                     .zip(groove_passes(&ws, after))
@@ -1151,24 +1158,12 @@ fn face_groove_walls(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     let pecks = |w: &Workingstep| {
         w.turning.as_deref().and_then(|t| t.intent.as_ref()).is_some_and(|i| i.kind == Some(TurnKind::FacePeck)) && w.holes.is_empty()
     };
-    // Passes as moves (the depth of cut `group_passes` read between them is no cycle's).
-    let explicit = |w: &Workingstep| {
-        w.turning.as_deref().is_some_and(|t| {
-            t.intent.as_ref().is_none_or(|i| *i == crate::canon::TurnIntent { depth_of_cut: i.depth_of_cut, ..Default::default() })
-                && t.cycle.is_none()
-                && t.pitch.is_none()
-        }) && w.holes.is_empty()
-    };
     let mut out: Vec<Workingstep> = Vec::new();
     for ws in std::mem::take(&mut plan.workingsteps) {
         let joins = out.last().is_some_and(|prev| {
             pecks(prev)
-                && explicit(&ws)
-                && prev.tool == ws.tool
-                && prev.setup == ws.setup
-                && prev.state.work_offset == ws.state.work_offset
-                && prev.technology.spindle_id == ws.technology.spindle_id
-                && !ws.state.stops.iter().any(|s| s.at == 0)
+                && explicit_passes(&ws)
+                && same_run(prev, &ws)
                 && face_plunges(prev)
                     .zip(face_plunges(&ws))
                     .is_some_and(|(a, b)| a.lo >= b.lo - TOL && a.hi <= b.hi + TOL && b.contiguous_with(a.lo, a.hi))

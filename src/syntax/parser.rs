@@ -558,20 +558,23 @@ mod tests {
         }
     }
 
+    /// A number read byte by byte, as `plain_number` reads one that does not fit in a word:
+    /// (mantissa, integer digits, fraction digits, point, end).
+    fn byte_by_byte(b: &[u8], i: usize) -> (u64, usize, usize, bool, usize) {
+        let (mut end, mut m) = (i, 0u64);
+        digits(b, &mut end, &mut m);
+        let n_int = end - i;
+        let point = b.get(end) == Some(&b'.');
+        if point {
+            end += 1;
+            digits(b, &mut end, &mut m);
+        }
+        (m, n_int, end - i - n_int - usize::from(point), point, end)
+    }
+
     #[test]
     fn short_numbers_read_from_one_word_as_byte_by_byte() {
-        // Byte by byte, as `plain_number` reads a number that does not fit in a word.
-        let slow = |b: &[u8], i: usize| {
-            let (mut end, mut m) = (i, 0u64);
-            digits(b, &mut end, &mut m);
-            let n_int = end - i;
-            let point = b.get(end) == Some(&b'.');
-            if point {
-                end += 1;
-                digits(b, &mut end, &mut m);
-            }
-            (m, n_int, end - i - n_int - usize::from(point), point, end)
-        };
+        let slow = byte_by_byte;
         let stops = ["", "/", ":", ".", "..", " ", "X", "\n", "\u{e9}", "\u{ff}", "-", "+"];
         let mut read = 0;
         for int in 0..9 {
@@ -607,17 +610,7 @@ mod tests {
     /// `9`, bytes of 0x80 and up): the word gives what the bytes give, or declines.
     #[test]
     fn short_numbers_among_any_bytes_read_as_byte_by_byte() {
-        let slow = |b: &[u8], i: usize| {
-            let (mut end, mut m) = (i, 0u64);
-            digits(b, &mut end, &mut m);
-            let n_int = end - i;
-            let point = b.get(end) == Some(&b'.');
-            if point {
-                end += 1;
-                digits(b, &mut end, &mut m);
-            }
-            (m, n_int, end - i - n_int - usize::from(point), point, end)
-        };
+        let slow = byte_by_byte;
         let mut rng = 0x2545_f491_4f6c_dd1d_u64;
         let mut next = || {
             rng ^= rng << 13;
