@@ -443,40 +443,74 @@ pub fn machine_of(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (Opti
 /// 0.001 mm, or within the target's resolution where the writer said it rounded (`written`
 /// holds the writer's findings). Returns the findings: none when the motion is the same; an
 /// error of the read-back, or [`Code::PostMotionDiffers`] at the source's block where the two
-/// part.
-pub fn check_translation(
+/// part. A translation the writer refused (an error of `post::`) is not proven: it is not
+/// given out, and a difference would say nothing the refusal does not.
+///
+/// The two are read at once, each on a thread of its own, and compared as their moves come
+/// ([`crate::proof::Comparison`]): memory holds a few batches of moves, not the motions, and
+/// `translated` may be read piece by piece (a file written beside the output).
+pub fn check_translation<'t>(
     source: Text<'_>,
     from: &Dialect,
-    translated: &str,
+    translated: impl Into<Text<'t>>,
     to: &Dialect,
     profile: &Profile,
     written: &[Diagnostic],
 ) -> Vec<Diagnostic> {
-    const TOL: f64 = 0.001;
+    use crate::proof::{Comparison, Trace};
+    const TOL: f64 = PROOF_TOL;
+    if written.iter().any(|d| d.is_error() && d.code.as_str().starts_with("post::")) {
+        return Vec::new();
+    }
+    let translated = translated.into();
     // The source runs on the machine its words show, as it was translated ([`translate`]);
     // the translation states what it needs, and is read back on the machine as configured.
     let machine = machine_of(source, from, profile).0;
-    let mut ours = crate::proof::Trace::new(TOL);
-    interp::interpret(source, from, machine.as_ref().unwrap_or(profile), &mut ours);
-    let mut theirs = crate::proof::Trace::new(TOL);
-    let back = interp::interpret(Text::from(translated), to, profile, &mut theirs);
+    let machine = machine.as_ref().unwrap_or(profile);
+    let said = |code: Code| written.iter().any(|d| d.code == code);
+    // Arcs whose centres the writer moved: within the largest radius difference of the
+    // source's arcs, known only at its end, so read for first.
+    let slack = if said(Code::PostArcCentre) {
+        let mut t = Trace::streaming(TOL, |mut v| {
+            v.clear();
+            v
+        });
+        interp::interpret(source, from, machine, &mut t);
+        t.slack()
+    } else {
+        0.0
+    };
+    // Rounded: within the target's resolution in the units the translation ends in, known
+    // only at its end: where inches and millimetres differ, both are compared, and the one
+    // of the units it ended in kept.
+    let rounded = said(Code::PostRounded) || said(Code::PostArcCentre);
+    let within = |inch: bool| if rounded { TOL.max(crate::post::resolution(to, inch)) + slack } else { TOL + slack };
+    let mut candidates = vec![(Some(false), Comparison::new(within(false)))];
+    if within(true) == within(false) {
+        candidates[0].0 = None;
+    } else {
+        candidates.push((Some(true), Comparison::new(within(true))));
+    }
+    let (back, inches) = prove_beside((source, from, machine), (translated, to, profile), &mut candidates);
     if let Some(e) = back.iter().find(|d| d.is_error()) {
-        let at = LineIndex::new(translated).line_col(translated, e.range.start).line;
+        let at = text::locate(translated, &[e.range.start]).first().map_or(0, |l| l.line);
         return vec![Diagnostic::new(
             Code::PostMotionDiffers,
             TextRange::default(),
             format!("the translation, read back as {}, has an error at its line {at}: {}: {}", to.name, e.code.as_str(), e.message),
         )];
     }
-    let said = |code: Code| written.iter().any(|d| d.code == code);
-    let mut tol = TOL;
-    if said(Code::PostRounded) || said(Code::PostArcCentre) {
-        tol = tol.max(crate::post::resolution(to, theirs.in_inches()));
-    }
-    if said(Code::PostArcCentre) {
-        tol += ours.slack();
-    }
-    match crate::proof::difference(&ours, &theirs, tol) {
+    let verdict = candidates.into_iter().find(|(inch, _)| inch.is_none_or(|i| i == inches)).and_then(|(_, c)| c.verdict());
+    let difference = verdict.unwrap_or_else(|| {
+        // Not reached: both streams end, and a comparison of two ended streams is decided.
+        Some(crate::proof::Difference {
+            line: 0,
+            origin: TextRange::default(),
+            other_line: None,
+            what: "the comparison did not finish".into(),
+        })
+    });
+    match difference {
         None => Vec::new(),
         Some(d) => {
             let back_line = d.other_line.map(|l| format!(" (the translation's line {l})")).unwrap_or_default();
@@ -487,6 +521,91 @@ pub fn check_translation(
             )]
         }
     }
+}
+
+/// How close two points of a proof are at least to count as one (mm).
+const PROOF_TOL: f64 = 0.001;
+
+/// Batches of moves under way from each reading thread at once: how far it may run ahead
+/// of the comparison.
+const PROOF_BATCHES: usize = 4;
+
+/// A batch of a stream's moves, or its end with the seconds dwelt after its last move.
+enum Proved {
+    Moves(Vec<crate::proof::Move>),
+    End(f64),
+}
+
+/// Reads the program and its translation each on a thread of its own into a streaming
+/// [`crate::proof::Trace`], and feeds every undecided comparison of `candidates` the moves
+/// the first of them waits for, until all are decided. Returns the findings of reading the
+/// translation back and whether it ended in inches.
+fn prove_beside(
+    (source, from, machine): (Text<'_>, &Dialect, &Profile),
+    (translated, to, profile): (Text<'_>, &Dialect, &Profile),
+    candidates: &mut [(Option<bool>, crate::proof::Comparison)],
+) -> (Vec<Diagnostic>, bool) {
+    use crate::proof::{Side, Trace};
+    use std::sync::mpsc;
+    let (a_full, a_filled) = mpsc::sync_channel::<Proved>(PROOF_BATCHES);
+    let (b_full, b_filled) = mpsc::sync_channel::<Proved>(PROOF_BATCHES);
+    let (a_empty, a_emptied) = mpsc::channel::<Vec<crate::proof::Move>>();
+    let (b_empty, b_emptied) = mpsc::channel::<Vec<crate::proof::Move>>();
+    // A trace whose batches go down `full`, taking emptied ones back; once the comparison
+    // is decided (the channel closed) they are dropped.
+    let trace = |full: mpsc::SyncSender<Proved>, emptied: mpsc::Receiver<Vec<crate::proof::Move>>| {
+        let sent = full.clone();
+        let t = Trace::streaming(PROOF_TOL, move |moves| {
+            let mut next = emptied.try_recv().unwrap_or_else(|_| Vec::with_capacity(crate::proof::BATCH));
+            if let Err(mpsc::SendError(Proved::Moves(mut v))) = sent.send(Proved::Moves(moves)) {
+                v.clear();
+                next = v;
+            }
+            next
+        });
+        (t, full)
+    };
+    std::thread::scope(|scope| {
+        let ours = scope.spawn(move || {
+            let (mut t, full) = trace(a_full, a_emptied);
+            interp::interpret(source, from, machine, &mut t);
+            let _ = full.send(Proved::End(t.finish()));
+        });
+        let theirs = scope.spawn(move || {
+            let (mut t, full) = trace(b_full, b_emptied);
+            let back = interp::interpret(translated, to, profile, &mut t);
+            let _ = full.send(Proved::End(t.finish()));
+            (back, t.in_inches())
+        });
+        while let Some(side) = candidates.iter().find_map(|(_, c)| c.wants()) {
+            let (filled, empty) = match side {
+                Side::Program => (&a_filled, &a_empty),
+                Side::Translation => (&b_filled, &b_empty),
+            };
+            // A reading thread gone (it panicked): the panic comes out of the join.
+            let Ok(batch) = filled.recv() else { break };
+            match batch {
+                Proved::Moves(mut moves) => {
+                    // Each undecided comparison a copy, the last the moves themselves.
+                    let live = candidates.iter().filter(|(_, c)| !c.decided()).count();
+                    for (k, (_, c)) in candidates.iter_mut().filter(|(_, c)| !c.decided()).enumerate() {
+                        if k + 1 == live {
+                            c.take(side, moves.drain(..));
+                        } else {
+                            c.take(side, moves.iter().cloned());
+                        }
+                    }
+                    moves.clear();
+                    let _ = empty.send(moves);
+                }
+                Proved::End(dwell) => candidates.iter_mut().for_each(|(_, c)| c.end(side, dwell)),
+            }
+        }
+        // Decided: the rest of each reading goes nowhere.
+        drop((a_filled, b_filled));
+        ours.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+        theirs.join().unwrap_or_else(|e| std::panic::resume_unwind(e))
+    })
 }
 
 /// The changes from the `original` program's plan to the `edited` one's, each analysed in its

@@ -11,7 +11,10 @@
 //!
 //! The door: [`Trace`] (a [`CanonSink`] that keeps what the comparison needs of a stream, in
 //! millimetres) and [`difference`], the first way one trace differs from another within a
-//! tolerance, or `None`.
+//! tolerance, or `None`. Streamed: [`Trace::streaming`] hands its finished moves on in
+//! batches, and [`Comparison`] takes the two streams as they come, holding only the moves
+//! neither has yet been compared with (the translation's pieces of one arc at most ahead of
+//! the program's): two interpretations compared on their own threads in bounded memory.
 //!
 //! Lines of reasoning kept from the translation tests, which this room now serves: an arc may
 //! come back in pieces about the same centre, or on the same path within the tolerance and the
@@ -125,10 +128,14 @@ pub struct Move {
 }
 
 /// The moves of a canonical stream, made as the stream is fed in ([`CanonSink`]).
-#[derive(Debug)]
 pub struct Trace {
-    /// The moves so far.
+    /// The moves so far (streaming: those not yet handed on).
     pub moves: Vec<Move>,
+    /// Streaming: where full batches of finished moves go, and how many went.
+    outlet: Option<Outlet>,
+    handed: usize,
+    /// The largest radius difference of the stream's arcs so far.
+    slack: f64,
     /// How close two points must be to count as one (the rapids' merging, zero moves).
     tol: f64,
     scale: f64,
@@ -170,11 +177,27 @@ pub struct Trace {
     origin: TextRange,
 }
 
+/// Where a streaming trace hands its finished moves: a full batch in, an empty one back to
+/// fill.
+type Outlet = Box<dyn FnMut(Vec<Move>) -> Vec<Move>>;
+
+/// Finished moves a streaming trace hands on at a time.
+pub const BATCH: usize = 1024;
+
+impl std::fmt::Debug for Trace {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Trace").field("moves", &self.moves).field("handed", &self.handed).finish_non_exhaustive()
+    }
+}
+
 impl Trace {
     /// An empty trace; points within `tol` mm are one.
     pub fn new(tol: f64) -> Trace {
         Trace {
             moves: Vec::new(),
+            outlet: None,
+            handed: 0,
+            slack: 0.0,
             tol,
             scale: 1.0,
             plane: Plane::Xy,
@@ -203,6 +226,32 @@ impl Trace {
         }
     }
 
+    /// An empty trace that keeps no more than a batch of moves: each move is final once the
+    /// next one is made (only the last may still take a rapid on along its line), and
+    /// [`BATCH`] finished ones at a time go to `outlet`, which gives an empty buffer back.
+    /// [`Trace::finish`] hands on the rest.
+    pub fn streaming(tol: f64, outlet: impl FnMut(Vec<Move>) -> Vec<Move> + 'static) -> Trace {
+        Trace { outlet: Some(Box::new(outlet)), moves: Vec::with_capacity(BATCH), ..Trace::new(tol) }
+    }
+
+    /// Hands the moves not yet handed on to the outlet (a streaming trace) and returns the
+    /// seconds dwelt after the last move.
+    pub fn finish(&mut self) -> f64 {
+        if let Some(out) = &mut self.outlet
+            && !self.moves.is_empty()
+        {
+            self.handed += self.moves.len();
+            let full = std::mem::take(&mut self.moves);
+            self.moves = out(full);
+        }
+        self.dwell
+    }
+
+    /// How many moves the trace has made (a streaming one: handed on or held).
+    fn made(&self) -> usize {
+        self.handed + self.moves.len()
+    }
+
     /// The trace of a whole stream.
     pub fn of(canon: &[Canon], tol: f64) -> Trace {
         let mut t = Trace::new(tol);
@@ -219,7 +268,7 @@ impl Trace {
 
     /// The largest radius difference of the stream's arcs.
     pub fn slack(&self) -> f64 {
-        self.moves.iter().map(|m| m.slack).fold(0.0, f64::max)
+        self.slack
     }
 
     /// A coordinate in mm in the frame the move runs in: the G92 shift added on the untilted
@@ -233,6 +282,14 @@ impl Trace {
     }
 
     fn push(&mut self, kind: Kind, to: [f64; 3], line: u32) {
+        // The moves held are final once another comes: a full batch goes on.
+        if self.moves.len() >= BATCH
+            && let Some(out) = &mut self.outlet
+        {
+            self.handed += self.moves.len();
+            let full = std::mem::take(&mut self.moves);
+            self.moves = out(full);
+        }
         let origin = self.origin;
         let feed = if kind == Kind::Feed { self.sync.map_or(self.feed, |k| k * self.speed) } else { self.feed };
         self.moves.push(Move {
@@ -292,7 +349,7 @@ impl Trace {
         let pos = self.pos;
         let merged = rapid
             && self.dwell == 0.0
-            && self.moves.len().checked_sub(1) != Some(self.fresh)
+            && self.made().checked_sub(1) != Some(self.fresh)
             && self.moves.last().is_some_and(|l| {
                 let (u, v) = (sub(to, l.from), sub(to, pos));
                 l.kind == Kind::Rapid
@@ -345,6 +402,7 @@ impl Trace {
         if let Some(m) = self.moves.last_mut() {
             (m.axes, m.centre, m.sweep, m.slack) = ((a, b, n), centre, sweep, slack);
         }
+        self.slack = self.slack.max(slack);
         self.chain.clear();
         self.pos = to;
     }
@@ -397,7 +455,7 @@ impl CanonSink for Trace {
             CanonOp::ToolAxis(v) => self.axis = *v,
             CanonOp::Known(m) => {
                 if *m & !self.known != 0 {
-                    self.fresh = self.moves.len();
+                    self.fresh = self.made();
                 }
                 self.known = *m;
             }
@@ -548,62 +606,168 @@ fn css_text(c: Option<f64>) -> String {
 
 /// The first way trace `b` runs differently from `a`, with positions within `tol` mm.
 pub fn difference(ta: &Trace, tb: &Trace, tol: f64) -> Option<Difference> {
-    let (a, b) = (&ta.moves, &tb.moves);
-    let differ =
-        |m: &Move, n: Option<&Move>, what: String| Some(Difference { line: m.line, origin: m.origin, other_line: n.map(|n| n.line), what });
-    let mut j = 0;
-    for m in a {
-        let Some(n) = b.get(j) else {
+    let mut c = Comparison::new(tol);
+    c.take(Side::Program, ta.moves.iter().cloned());
+    c.end(Side::Program, ta.dwell);
+    c.take(Side::Translation, tb.moves.iter().cloned());
+    c.end(Side::Translation, tb.dwell);
+    c.verdict().flatten()
+}
+
+/// One of the two streams a [`Comparison`] compares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// The program (`a` of [`difference`]).
+    Program,
+    /// Its translation (`b`).
+    Translation,
+}
+
+/// [`difference`] made as the two streams come: moves are taken from either side in any
+/// batches, each compared as soon as the other side has what it needs (one move; the pieces
+/// of an arc), and dropped once compared. The verdict is the same whatever the batches.
+#[derive(Debug)]
+pub struct Comparison {
+    tol: f64,
+    /// The moves of each side not yet compared.
+    a: std::collections::VecDeque<Move>,
+    b: std::collections::VecDeque<Move>,
+    /// Each side's dwell after its last move, once it has ended.
+    a_end: Option<f64>,
+    b_end: Option<f64>,
+    /// The line and range of the program's last move compared, and the translation's last
+    /// line taken: the places of a difference in the dwell after the last move.
+    a_last: Option<(u32, TextRange)>,
+    b_last: Option<u32>,
+    /// The first difference (`Some(None)`: none), once known.
+    verdict: Option<Option<Difference>>,
+}
+
+/// What a comparison step found: the two moves alike so far (and how many of the
+/// translation's made the program's move), a verdict, or a side whose moves it waits for.
+enum Step {
+    Alike(usize),
+    Done(Option<Difference>),
+    Wait(Side),
+}
+
+impl Comparison {
+    /// A comparison of nothing yet, positions within `tol` mm.
+    pub fn new(tol: f64) -> Comparison {
+        Comparison {
+            tol,
+            a: Default::default(),
+            b: Default::default(),
+            a_end: None,
+            b_end: None,
+            a_last: None,
+            b_last: None,
+            verdict: None,
+        }
+    }
+
+    /// Takes `moves`, the next ones of `side`, and compares what it can.
+    pub fn take(&mut self, side: Side, moves: impl IntoIterator<Item = Move>) {
+        if self.verdict.is_some() {
+            return;
+        }
+        match side {
+            Side::Program => self.a.extend(moves),
+            Side::Translation => {
+                let before = self.b.len();
+                self.b.extend(moves);
+                if self.b.len() > before {
+                    self.b_last = self.b.back().map(|n| n.line);
+                }
+            }
+        }
+        self.run();
+    }
+
+    /// `side` has no more moves; it dwells `dwell` seconds after its last one.
+    pub fn end(&mut self, side: Side, dwell: f64) {
+        match side {
+            Side::Program => self.a_end = Some(dwell),
+            Side::Translation => self.b_end = Some(dwell),
+        }
+        self.run();
+    }
+
+    /// The side whose moves the comparison waits for, or `None` once it has its verdict.
+    pub fn wants(&self) -> Option<Side> {
+        if self.verdict.is_some() {
+            return None;
+        }
+        match self.step() {
+            Step::Wait(side) => Some(side),
+            // Not reached: `run` steps until it waits or decides.
+            Step::Alike(_) | Step::Done(_) => None,
+        }
+    }
+
+    /// Whether the verdict is known.
+    pub fn decided(&self) -> bool {
+        self.verdict.is_some()
+    }
+
+    /// The first difference, `Some(None)` for none, or `None` while undecided.
+    pub fn verdict(self) -> Option<Option<Difference>> {
+        self.verdict
+    }
+
+    fn run(&mut self) {
+        while self.verdict.is_none() {
+            match self.step() {
+                Step::Wait(_) => return,
+                Step::Done(d) => {
+                    self.verdict = Some(d);
+                    self.a.clear();
+                    self.b.clear();
+                }
+                Step::Alike(k) => {
+                    if let Some(m) = self.a.pop_front() {
+                        self.a_last = Some((m.line, m.origin));
+                    }
+                    self.b.drain(..k);
+                }
+            }
+        }
+    }
+
+    /// Compares the program's next move with the translation's next ones.
+    fn step(&self) -> Step {
+        let tol = self.tol;
+        let differ = |m: &Move, n: Option<&Move>, what: String| {
+            Step::Done(Some(Difference { line: m.line, origin: m.origin, other_line: n.map(|n| n.line), what }))
+        };
+        let Some(m) = self.a.front() else {
+            let Some(da) = self.a_end else { return Step::Wait(Side::Program) };
+            if let Some(n) = self.b.front() {
+                return Step::Done(Some(Difference {
+                    line: 0,
+                    origin: TextRange::default(),
+                    other_line: Some(n.line),
+                    what: format!("the translation has more moves: {} to {}", n.kind.label(), fmt(n.to)),
+                }));
+            }
+            let Some(db) = self.b_end else { return Step::Wait(Side::Translation) };
+            return Step::Done((!same_dwell(da, db)).then(|| Difference {
+                line: self.a_last.map_or(0, |l| l.0),
+                origin: self.a_last.map_or_else(TextRange::default, |l| l.1),
+                other_line: self.b_last,
+                what: format!("dwells {} after the last move, the translation {}", secs(da), secs(db)),
+            }));
+        };
+        let Some(n) = self.b.front() else {
+            if self.b_end.is_none() {
+                return Step::Wait(Side::Translation);
+            }
             return differ(m, None, format!("the translation ends before the {} to {}", m.kind.label(), fmt(m.to)));
         };
-        if m.frame != n.frame && !matches!(m.kind, Kind::Reference(_) | Kind::Fixed(_) | Kind::Machine | Kind::Builder) {
-            return differ(m, Some(n), format!("moves in {}, the translation in {}", frame(m.frame), frame(n.frame)));
+        if let Some(what) = same_setting(m, n, tol) {
+            return differ(m, Some(n), what);
         }
-        if !same_tilt(m.tilt.as_ref(), n.tilt.as_ref(), tol) {
-            return differ(m, Some(n), format!("moves on {}, the translation on {}", tilt(m.tilt.as_ref()), tilt(n.tilt.as_ref())));
-        }
-        // The tool axis: rotary axes written to a few decimals turn it by some 1e-5.
-        if !near(m.axis, n.axis, 1e-4) {
-            let v = |a: [f64; 3]| format!("I{:.4} J{:.4} K{:.4}", a[0], a[1], a[2]);
-            return differ(m, Some(n), format!("moves with the tool axis {}, the translation with {}", v(m.axis), v(n.axis)));
-        }
-        // The spindle, its speed and the coolant as they cut: on a rapid they make nothing (a
-        // target whose tool change stops the spindle positions with it stopped).
-        let state = |x: &Move| (x.spindle, x.coolant);
-        let cuts = m.kind.cuts();
-        if m.tool != n.tool
-            || (cuts && state(m) != state(n))
-            || (cuts && m.spindle != 0 && (m.speed - n.speed).abs() > 0.5)
-            || (cuts && m.spindle != 0 && !same_clamp(m.css, n.css))
-            || (cuts && (m.feed - n.feed).abs() > 1e-3 * m.feed.max(1.0))
-        {
-            return differ(
-                m,
-                Some(n),
-                format!(
-                    "tool/spindle/coolant/feed/speed T{} {} {} F{} S{}{} became T{} {} {} F{} S{}{}",
-                    m.tool,
-                    m.spindle,
-                    m.coolant,
-                    m.feed,
-                    m.speed,
-                    css_text(m.css),
-                    n.tool,
-                    n.spindle,
-                    n.coolant,
-                    n.feed,
-                    n.speed,
-                    css_text(n.css)
-                ),
-            );
-        }
-        if !same_dwell(m.dwell, n.dwell) {
-            return differ(
-                m,
-                Some(n),
-                format!("dwells {} before the {} to {}, the translation {}", secs(m.dwell), m.kind.label(), fmt(m.to), secs(n.dwell)),
-            );
-        }
+        let mut took = 1;
         if !m.kind.is_arc() {
             // An axis neither side knows the position of has no number to compare: each side's
             // counts from an assumed one, which a frame change the target is not told of
@@ -614,30 +778,65 @@ pub fn difference(ta: &Trace, tb: &Trace, tol: f64) -> Option<Difference> {
             if n.kind != m.kind || !near(mask(m.to, 0), mask(n.to, 0), tol) || !near(mask(m.abc, 3), mask(n.abc, 3), tol) {
                 return differ(m, Some(n), format!("{} to {} became {} to {}", m.kind.label(), fmt(m.to), n.kind.label(), fmt(n.to)));
             }
-        } else if let Err(what) = arc_pieces(m, &b[j..], tol).map(|k| j += k - 1) {
-            return differ(m, b.get(j), what);
+        } else {
+            match arc_pieces(m, self.b.iter(), tol) {
+                Ok(k) => took = k,
+                Err(None) if self.b_end.is_none() => return Step::Wait(Side::Translation),
+                Err(None) => return differ(m, Some(n), "the translation ends within the arc".into()),
+                Err(Some(what)) => return differ(m, Some(n), what),
+            }
         }
         // Safe output: a translation states no axis the program leaves where the machine
         // happens to be, and leaves none there that the program states.
         if m.known != n.known {
             return differ(m, Some(n), format!("{} to {}: {}", m.kind.label(), fmt(m.to), known_difference(m.known, n.known)));
         }
-        j += 1;
+        Step::Alike(took)
     }
-    if let Some(n) = b.get(j) {
-        return Some(Difference {
-            line: 0,
-            origin: TextRange::default(),
-            other_line: Some(n.line),
-            what: format!("the translation has more moves: {} to {}", n.kind.label(), fmt(n.to)),
-        });
+}
+
+/// How move `n` runs in another frame, plane, tool axis, technology or after another dwell
+/// than `m`, in words, if it does.
+fn same_setting(m: &Move, n: &Move, tol: f64) -> Option<String> {
+    if m.frame != n.frame && !matches!(m.kind, Kind::Reference(_) | Kind::Fixed(_) | Kind::Machine | Kind::Builder) {
+        return Some(format!("moves in {}, the translation in {}", frame(m.frame), frame(n.frame)));
     }
-    (!same_dwell(ta.dwell, tb.dwell)).then(|| Difference {
-        line: a.last().map_or(0, |m| m.line),
-        origin: a.last().map_or_else(TextRange::default, |m| m.origin),
-        other_line: b.last().map(|n| n.line),
-        what: format!("dwells {} after the last move, the translation {}", secs(ta.dwell), secs(tb.dwell)),
-    })
+    if !same_tilt(m.tilt.as_ref(), n.tilt.as_ref(), tol) {
+        return Some(format!("moves on {}, the translation on {}", tilt(m.tilt.as_ref()), tilt(n.tilt.as_ref())));
+    }
+    // The tool axis: rotary axes written to a few decimals turn it by some 1e-5.
+    if !near(m.axis, n.axis, 1e-4) {
+        let v = |a: [f64; 3]| format!("I{:.4} J{:.4} K{:.4}", a[0], a[1], a[2]);
+        return Some(format!("moves with the tool axis {}, the translation with {}", v(m.axis), v(n.axis)));
+    }
+    // The spindle, its speed and the coolant as they cut: on a rapid they make nothing (a
+    // target whose tool change stops the spindle positions with it stopped).
+    let state = |x: &Move| (x.spindle, x.coolant);
+    let cuts = m.kind.cuts();
+    if m.tool != n.tool
+        || (cuts && state(m) != state(n))
+        || (cuts && m.spindle != 0 && (m.speed - n.speed).abs() > 0.5)
+        || (cuts && m.spindle != 0 && !same_clamp(m.css, n.css))
+        || (cuts && (m.feed - n.feed).abs() > 1e-3 * m.feed.max(1.0))
+    {
+        return Some(format!(
+            "tool/spindle/coolant/feed/speed T{} {} {} F{} S{}{} became T{} {} {} F{} S{}{}",
+            m.tool,
+            m.spindle,
+            m.coolant,
+            m.feed,
+            m.speed,
+            css_text(m.css),
+            n.tool,
+            n.spindle,
+            n.coolant,
+            n.feed,
+            n.speed,
+            css_text(n.css)
+        ));
+    }
+    (!same_dwell(m.dwell, n.dwell))
+        .then(|| format!("dwells {} before the {} to {}, the translation {}", secs(m.dwell), m.kind.label(), fmt(m.to), secs(n.dwell)))
 }
 
 /// How the axes the translation knows (`b`) differ from those the program knows (`a`).
@@ -671,20 +870,21 @@ fn secs(s: f64) -> String {
 /// centre or, where the centre is ill-conditioned (a long radius over a short chord, radii
 /// that differ at the ends), on the same path within `tol` and the source's radius
 /// difference.
-fn arc_pieces(m: &Move, b: &[Move], tol: f64) -> Result<usize, String> {
+/// `Err(None)`: the pieces given end within the arc.
+fn arc_pieces<'m>(m: &Move, b: impl IntoIterator<Item = &'m Move>, tol: f64) -> Result<usize, Option<String>> {
     let (a0, b0, _) = m.axes;
     let r0 = (m.from[a0] - m.centre[a0]).hypot(m.from[b0] - m.centre[b0]);
     let angle_tol = (2.0 * tol + m.slack) / r0.max(1e-9) + 1e-3;
     let mut swept = 0.0;
     const PLANES: [&str; 3] = ["X", "Y", "Z"];
     let plane = |x: &Move| format!("{}{}", PLANES[x.axes.0], PLANES[x.axes.1]);
-    for (k, n) in b.iter().enumerate() {
+    for (k, n) in b.into_iter().enumerate() {
         if n.kind.is_arc() && n.axes != m.axes {
-            return Err(format!("arc in the {} plane became one in the {} plane", plane(m), plane(n)));
+            return Err(Some(format!("arc in the {} plane became one in the {} plane", plane(m), plane(n))));
         }
         let same_centre = near(n.centre, m.centre, 2.0 * tol + m.slack);
         if n.kind != m.kind || !(same_centre || arc_deviation(m, n) <= tol + m.slack) {
-            return Err(format!("arc about {} became {} about {}", fmt(m.centre), n.kind.label(), fmt(n.centre)));
+            return Err(Some(format!("arc about {} became {} about {}", fmt(m.centre), n.kind.label(), fmt(n.centre))));
         }
         swept += n.sweep;
         // Done at the source's end point with its sweep; the pieces past its sweep without
@@ -693,10 +893,10 @@ fn arc_pieces(m: &Move, b: &[Move], tol: f64) -> Result<usize, String> {
             return Ok(k + 1);
         }
         if swept >= m.sweep - 1e-3 {
-            return Err(format!("arc to {} became one to {}", fmt(m.to), fmt(n.to)));
+            return Err(Some(format!("arc to {} became one to {}", fmt(m.to), fmt(n.to))));
         }
     }
-    Err("the translation ends within the arc".into())
+    Err(None)
 }
 
 /// How far piece `n` of a translated arc strays from the source's arc `m` (infinite when `m`
@@ -847,5 +1047,114 @@ mod tests {
         xz.extend([c(CanonOp::SelectPlane(Plane::Xz), 2), c(arc, 2)]);
         // In XZ the first axis is Z: the same numbers end at Z10, not X10.
         assert!(difference(&Trace::of(&xy, 1e-3), &Trace::of(&xz, 1e-3), 1e-3).is_some());
+    }
+
+    /// The moves a streaming trace hands on, batch by batch, are those of a whole one: a
+    /// rapid merged along its line across a batch's end, arcs, a rigid tap, a fresh axis.
+    #[test]
+    fn a_streaming_trace_hands_on_the_moves_of_a_whole_one() {
+        let feed = |x: f64, y: f64| CanonOp::StraightFeed([x, y, -1.0, 0.0, 0.0, 0.0]);
+        let rapid = |x: f64| CanonOp::StraightTraverse([x, 0.0, 5.0, 0.0, 0.0, 0.0]);
+        let mut ops = vec![c(CanonOp::Known(0b111), 1)];
+        for k in 0..2 * BATCH + 37 {
+            let line = ops.len() as u32;
+            ops.push(c(feed((k % 2) as f64 * 50.0, k as f64 * 0.01), line));
+            // Rapids along one line, the chain running over the end of a batch.
+            if k % (BATCH - 3) == 0 {
+                ops.extend((0..9).map(|x| c(rapid(f64::from(x)), line)));
+                ops.push(c(CanonOp::RigidTap([3.0, 0.0, -4.0]), line));
+                let arc = CanonOp::ArcFeed {
+                    first_end: 13.0,
+                    second_end: 0.0,
+                    first_axis: 8.0,
+                    second_axis: 0.0,
+                    rotation: -1,
+                    axis_end: -4.0,
+                    abc: [0.0; 3],
+                };
+                ops.extend([c(arc, line), c(CanonOp::Known(0b11), line), c(CanonOp::Known(0b111), line), c(CanonOp::Dwell(0.5), line)]);
+            }
+        }
+        let whole = Trace::of(&ops, 1e-3);
+        let handed = std::rc::Rc::new(std::cell::RefCell::new(Vec::new()));
+        let into = handed.clone();
+        let mut t = Trace::streaming(1e-3, move |mut batch| {
+            assert!(batch.len() <= BATCH);
+            into.borrow_mut().append(&mut batch);
+            batch
+        });
+        ops.iter().for_each(|op| t.emit(op.clone()));
+        assert!(t.moves.len() <= BATCH);
+        assert_eq!(t.finish(), whole.dwell);
+        assert_eq!(t.slack(), whole.slack());
+        assert!(t.moves.is_empty());
+        assert!(whole.moves.len() > 2 * BATCH);
+        assert_eq!(format!("{:?}", handed.borrow()), format!("{:?}", whole.moves));
+    }
+
+    /// A comparison fed in any batches, the two sides in either order, gives the verdict of
+    /// the whole traces: alike, a move that differs, an arc whose pieces come apart.
+    #[test]
+    fn a_comparison_fed_in_batches_gives_the_whole_verdict() {
+        let arc = |x: f64, y: f64, cx: f64, cy: f64, rotation: i32| CanonOp::ArcFeed {
+            first_end: x,
+            second_end: y,
+            first_axis: cx,
+            second_axis: cy,
+            rotation,
+            axis_end: -1.0,
+            abc: [0.0; 3],
+        };
+        let start = |line: u32| {
+            vec![
+                c(CanonOp::SetFeedRate(100.0), line),
+                c(CanonOp::StraightFeed([0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), line),
+                c(CanonOp::StraightFeed([10.0, 0.0, -1.0, 0.0, 0.0, 0.0]), line),
+            ]
+        };
+        let mut source = start(1);
+        source.extend([c(arc(30.0, 0.0, 20.0, 0.0, 1), 2), c(CanonOp::StraightFeed([30.0, 5.0, -1.0, 0.0, 0.0, 0.0]), 3)]);
+        let pieces = |second: CanonOp| {
+            let mut t = start(1);
+            t.extend([
+                c(arc(20.0, -10.0, 20.0, 0.0, 1), 2),
+                c(second, 3),
+                c(CanonOp::StraightFeed([30.0, 5.0, -1.0, 0.0, 0.0, 0.0]), 4),
+            ]);
+            t
+        };
+        let a = Trace::of(&source, 1e-3);
+        let cases = [
+            (pieces(arc(30.0, 0.0, 20.0, 0.0, 1)), None),
+            (pieces(arc(30.0, 0.0, 20.0, 0.0, -1)), Some((2, Some(2)))),
+            (pieces(arc(30.0, 0.5, 20.0, 0.0, 1)), Some((2, Some(2)))),
+            (start(1), Some((2, None))),
+        ];
+        for (b, expected) in cases {
+            let b = Trace::of(&b, 1e-3);
+            let whole = difference(&a, &b, 1e-3);
+            assert_eq!(whole.as_ref().map(|d| (d.line, d.other_line)), expected, "{whole:?}");
+            for size in 1..=4 {
+                for first in [Side::Program, Side::Translation] {
+                    let mut cmp = Comparison::new(1e-3);
+                    let mut left = [(Side::Program, &a), (Side::Translation, &b)].map(|(s, t)| (s, t.moves.chunks(size), t.dwell));
+                    if first == Side::Translation {
+                        left.reverse();
+                    }
+                    // The side the comparison waits for next, else in turn.
+                    let mut turn = 0;
+                    while !cmp.decided() {
+                        let side = cmp.wants().unwrap_or(left[turn % 2].0);
+                        let (s, chunks, dwell) = left.iter_mut().find(|(s, ..)| *s == side).unwrap();
+                        match chunks.next() {
+                            Some(batch) => cmp.take(*s, batch.iter().cloned()),
+                            None => cmp.end(*s, *dwell),
+                        }
+                        turn += 1;
+                    }
+                    assert_eq!(cmp.verdict(), Some(whole.clone()), "batches of {size}, {first:?} first");
+                }
+            }
+        }
     }
 }

@@ -39,7 +39,8 @@ pub(super) struct Args {
     /// dialect and every move (in its frame: the work offset, a reference return, machine
     /// coordinates), tool, feed, spindle and coolant compared with the program's before it is
     /// given out; one the target's reader rejects or that runs otherwise is not written
-    /// (exit 1). It is held in memory. The flag is kept so that scripts giving it still run.
+    /// (exit 1). It is read back from the file written beside the output (held in memory only
+    /// on its way to standard output). The flag is kept so that scripts giving it still run.
     #[arg(long)]
     check: bool,
     #[command(flatten)]
@@ -51,7 +52,6 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let Args { file, dialect: from, to, output, machine, revision, check: _, store: store_args } = args;
     // Safe output: the translation is always read back and proven before it is given out, so
     // text the target's own reader rejects, or a toolpath that differs, never leaves.
-    let check = true;
     let (store_args, out) = (&store_args, &mut out);
     let config = analysis_config(store_args.config.as_deref())?;
     let registry = registry_for(Some(&config))?;
@@ -132,13 +132,14 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     }
     // A file is written beside its place and renamed when done: a run that fails (the input
     // changed while it was read, a full disk) leaves no half file, and an earlier one stays.
+    // The proof reads it back from there, piece by piece; only a translation to standard
+    // output is held in memory until it is proven.
     let partial =
         output.as_ref().map(|o| o.with_file_name(format!(".{}.partial", o.file_name().map(|n| n.to_string_lossy()).unwrap_or_default())));
     let mut held = Vec::new();
-    let mut file_out: Box<dyn Write> = match (&partial, check) {
-        (_, true) => Box::new(&mut held),
-        (Some(p), false) => Box::new(BufWriter::new(std::fs::File::create(p).with_context(|| format!("cannot write {}", p.display()))?)),
-        (None, false) => Box::new(&mut *out),
+    let mut file_out: Box<dyn Write> = match &partial {
+        Some(p) => Box::new(BufWriter::new(std::fs::File::create(p).with_context(|| format!("cannot write {}", p.display()))?)),
+        None => Box::new(&mut held),
     };
     let mut error: Option<std::io::Error> = None;
     diags.extend(pipeline::translate(text, &source_dialect, &target, &profile, opts, |chunk| {
@@ -149,27 +150,33 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         }
     }));
     let flushed = match error {
-        Some(e) => Err(e),
-        None => file_out.flush(),
+        Some(e) => Err(anyhow::Error::from(e)),
+        None => file_out.flush().map_err(anyhow::Error::from),
     };
     drop(file_out);
-    if check && flushed.is_ok() && program.trouble().is_none() {
-        let checked = pipeline::check_translation(text, &source_dialect, &String::from_utf8_lossy(&held), &target, &profile, &diags);
-        diags.extend(checked);
-    }
+    // A translation the writer refused is not proven: the refusal says why it is not given out.
+    let refused_by_writer = diags.iter().any(|x| x.is_error() && x.code.as_str().starts_with("post::"));
+    let proved = match (&flushed, program.trouble(), &partial) {
+        (Ok(()), None, _) if refused_by_writer => Ok(()),
+        (Ok(()), None, Some(p)) => prove_file(p, text, (&source_dialect, &target), &profile, &mut diags),
+        (Ok(()), None, None) => {
+            let written = String::from_utf8_lossy(&held);
+            let checked = pipeline::check_translation(text, &source_dialect, &*written, &target, &profile, &diags);
+            diags.extend(checked);
+            Ok(())
+        }
+        _ => Ok(()),
+    };
     // A translation the writer could not make whole, or that runs otherwise, is refused: what
-    // it would have written is not given out (a stream without --check is out already).
+    // it would have written is not given out.
     let refused = diags.iter().any(|x| x.is_error() && x.code.as_str().starts_with("post::"));
-    let failed = match (flushed, program.trouble()) {
-        (Err(e), _) => Some(anyhow::Error::from(e)),
+    let failed = match (flushed.and(proved), program.trouble()) {
+        (Err(e), _) => Some(e),
         (Ok(()), Some(why)) => Some(anyhow::anyhow!("{why}; nothing was written")),
         (Ok(()), None) => None,
     };
-    if failed.is_none() && !refused && check {
-        match &partial {
-            Some(p) => std::fs::write(p, &held).with_context(|| format!("cannot write {}", p.display()))?,
-            None => out.write_all(&held)?,
-        }
+    if failed.is_none() && !refused && partial.is_none() {
+        out.write_all(&held)?;
     }
     if let (Some(p), Some(o)) = (&partial, &output) {
         if failed.is_some() || refused {
@@ -186,8 +193,27 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let shown_diags: Vec<&Diagnostic> =
         diags.iter().filter(|x| x.severity != Severity::Note || x.code.as_str().starts_with("post::")).collect();
     print_short(&path.display().to_string(), text, &shown_diags);
-    if refused && (output.is_some() || check) {
+    if refused {
         eprintln!("translate: the translation is refused: nothing was written");
     }
     Ok(if diags.iter().any(|x| x.is_error()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+/// Proves the translation written to `partial` (`pipeline::check_translation`), reading it
+/// back from the file piece by piece; its findings go to `diags`. A file that changed while
+/// it was read back is an error: what was proven would not be what is given out.
+fn prove_file(
+    partial: &Path,
+    source: pipeline::Text<'_>,
+    (from, to): (&pipeline::Dialect, &pipeline::Dialect),
+    profile: &pipeline::Profile,
+    diags: &mut Vec<Diagnostic>,
+) -> Result<()> {
+    let (written, _) = textfile::Program::open(partial).with_context(|| format!("cannot read back {}", partial.display()))?;
+    let checked = pipeline::check_translation(source, from, written.text(), to, profile, diags);
+    diags.extend(checked);
+    match written.trouble() {
+        Some(why) => bail!("{why}; nothing was written"),
+        None => Ok(()),
+    }
 }

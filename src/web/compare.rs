@@ -524,7 +524,7 @@ pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Opt
         let checked = crate::pipeline::check_translation(
             source.text.as_str().into(),
             &source_dialect,
-            &String::from_utf8_lossy(&out),
+            &*String::from_utf8_lossy(&out),
             &target,
             profile,
             &diags,

@@ -99,6 +99,7 @@ mod tool_comments;
 mod translate;
 mod translate_known;
 mod translate_lathe;
+mod translate_stream;
 mod unknown_values;
 mod vocabulary;
 mod web;
