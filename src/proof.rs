@@ -1116,11 +1116,7 @@ mod tests {
         source.extend([c(arc(30.0, 0.0, 20.0, 0.0, 1), 2), c(CanonOp::StraightFeed([30.0, 5.0, -1.0, 0.0, 0.0, 0.0]), 3)]);
         let pieces = |second: CanonOp| {
             let mut t = start(1);
-            t.extend([
-                c(arc(20.0, -10.0, 20.0, 0.0, 1), 2),
-                c(second, 3),
-                c(CanonOp::StraightFeed([30.0, 5.0, -1.0, 0.0, 0.0, 0.0]), 4),
-            ]);
+            t.extend([c(arc(20.0, -10.0, 20.0, 0.0, 1), 2), c(second, 3), c(CanonOp::StraightFeed([30.0, 5.0, -1.0, 0.0, 0.0, 0.0]), 4)]);
             t
         };
         let a = Trace::of(&source, 1e-3);

@@ -43,7 +43,7 @@ fn translate_proof_finds_a_difference_late_in_a_long_program_at_its_line() {
     const N: usize = 200_000;
     let source = surfacing(N, None);
     assert_eq!(prove(&source, &source), Vec::new());
-    let at = N - 7;
+    let at = N - 8;
     let planted = surfacing(N, Some(at));
     let line = (HEAD.lines().count() + at + 1) as u32;
     let (l, what) = parted(&source, &prove(&source, &planted));
@@ -75,7 +75,7 @@ fn translate_proof_keeps_merged_rapids_and_arc_pieces_across_batches() {
     );
     let lines = source.lines().count() as u32;
     // The arc's block and the first of the merged rapids, from the end.
-    let (arc, rapid) = (lines - 2, lines - 14);
+    let (arc, rapid) = (lines - 2, lines - 13);
     let tail = |rapids: &str, pieces: &str| after_a_batch(&format!("G0 Z5\nG0 X0 Y0\n{rapids}G1 Z-1\n{pieces}G0 Z5\nM30\n"));
     let whole = tail("G0 X4\nG0 X10\n", "G3 X20 Y-10 I10 J0\nG3 X30 Y0 I0 J10\n");
     assert_eq!(prove(&source, &whole), Vec::new());
@@ -92,7 +92,7 @@ fn translate_proof_keeps_merged_rapids_and_arc_pieces_across_batches() {
     );
     // The arc's second piece turning the other way.
     let cw = tail("G0 X4\nG0 X10\n", "G3 X20 Y-10 I10 J0\nG2 X30 Y0 I0 J10\n");
-    let first_piece = lines - 3;
+    let first_piece = lines - 10;
     let (l, what) = parted(&source, &prove(&source, &cw));
     assert_eq!(l, arc);
     assert_eq!(
