@@ -392,7 +392,9 @@ impl MachineMove {
     pub fn moves(&self) -> usize {
         match self.target {
             MachineTarget::Reference(_) => 2,
-            MachineTarget::Direct(_) | MachineTarget::Fixed(_) | MachineTarget::Machine | MachineTarget::Builder | MachineTarget::Limit => 1,
+            MachineTarget::Direct(_) | MachineTarget::Fixed(_) | MachineTarget::Machine | MachineTarget::Builder | MachineTarget::Limit => {
+                1
+            }
         }
     }
 

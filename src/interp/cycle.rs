@@ -241,8 +241,12 @@ impl Interpreter<'_> {
         // distance with G0"; Heidenhain cycle 200 "to the set-up clearance above the workpiece
         // surface at FMAX"; G81 in G90: to the absolute R). A return to the level the cycle
         // began at (G98) is to an unknown level again. Back boring goes down beside the hole
-        // from its start: left unknown.
-        let known_at_r = run.r_known && kind != CycleKind::BackBoring && !self.knows(n);
+        // from its start: left unknown. So is a tap of a cycle called over the tool (Heidenhain
+        // 207, 840D CYCLE84): it feeds its pitch (Q239, PIT) times the speed, which the
+        // reading does not model (it takes the feed in force), so no translation of it could
+        // be proven; from an unknown level it stays refused as before.
+        let defined_tap = still && matches!(kind, CycleKind::Tapping | CycleKind::LeftTapping);
+        let known_at_r = run.r_known && kind != CycleKind::BackBoring && !defined_tap && !self.knows(n);
         let returns_unknown = known_at_r && run.returns_initial;
         let away = |s: &Self, sink: &mut dyn CanonSink| {
             if returns_unknown {
@@ -276,10 +280,12 @@ impl Interpreter<'_> {
             if !(still && p[a0] == x && p[a1] == y) {
                 self.emit(sink, CanonOp::StraightTraverse(at(p[n])));
             }
+            // From an unknown level the move to R is made whatever number the analysis gives
+            // that level (equal to R, it would be no move at all in the stream).
             if known_at_r {
                 self.learn(1 << n, sink);
             }
-            if p[n] != r {
+            if p[n] != r || known_at_r {
                 self.emit(sink, CanonOp::StraightTraverse(at(r)));
             }
             match kind {

@@ -82,6 +82,17 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         let m: &CycleOut = &out.cycles[index];
         if unknown && !self.unknown_start_written(intent, m) {
             self.cancel_cycle();
+            if intent.known_at_r && intent.positioned {
+                self.note(
+                    Code::PostCycleAsMoves,
+                    canon,
+                    "unknown-level",
+                    format!(
+                        "the source's {} cycle begins where the program does not know the tool axis's position and goes to its R level first; the target's would rise to R only from below it and return to that unknown level: written as the moves it makes",
+                        intent.kind.label()
+                    ),
+                );
+            }
             return false;
         }
         let src_clear = self.source_peck_clearance(intent);
