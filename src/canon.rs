@@ -155,6 +155,16 @@ pub struct CycleIntent {
     /// `_DIS1`, Heidenhain `Q258`, else the dictionary's `peck-clearance`), where it pecks.
     #[serde(default)]
     pub peck_clearance: Option<f64>,
+    /// Whether the hole axis stands where the program does not know when the hole begins
+    /// (after a tool change, a reference return) and the cycle's own move to its R level, an
+    /// absolute level, makes it known (a [`CanonOp::Known`] marker before that move).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub known_at_r: bool,
+    /// Whether the tool returns after the hole to the level it began at, which the program
+    /// does not know (G98 from an unknown level): [`CycleIntent::clear`] is then counted from
+    /// an assumed number, and the axis is unknown again from the return on.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub returns_unknown: bool,
 }
 
 /// What a lathe cycle does (a [`TurnIntent`]'s kind).
@@ -360,6 +370,10 @@ pub enum MachineTarget {
     /// Coordinates from a datum the machine builder defines, for one block (Heidenhain
     /// `M92`): the marker's one move. Not the machine datum: no `G53` reaches it.
     Builder,
+    /// The tool axis's travel limit, away from the work (Heidenhain `M140 MB MAX`: along the
+    /// tool axis to just before the software limit switch): the marker's one traverse. Where
+    /// that is, only the machine knows.
+    Limit,
 }
 
 /// A move in the machine's frame (a marker before its moves).
@@ -378,7 +392,9 @@ impl MachineMove {
     pub fn moves(&self) -> usize {
         match self.target {
             MachineTarget::Reference(_) => 2,
-            MachineTarget::Direct(_) | MachineTarget::Fixed(_) | MachineTarget::Machine | MachineTarget::Builder => 1,
+            MachineTarget::Direct(_) | MachineTarget::Fixed(_) | MachineTarget::Machine | MachineTarget::Builder | MachineTarget::Limit => {
+                1
+            }
         }
     }
 
@@ -390,7 +406,9 @@ impl MachineMove {
             .iter()
             .zip(NAMES)
             .filter_map(|(v, n)| match (v, self.target) {
-                (Some(_), MachineTarget::Reference(_) | MachineTarget::Direct(_) | MachineTarget::Fixed(_)) => Some(n.to_owned()),
+                (Some(_), MachineTarget::Reference(_) | MachineTarget::Direct(_) | MachineTarget::Fixed(_) | MachineTarget::Limit) => {
+                    Some(n.to_owned())
+                }
                 (Some(v), MachineTarget::Machine | MachineTarget::Builder) => Some(format!("{n}{v}")),
                 (None, _) => None,
             })
@@ -400,6 +418,7 @@ impl MachineMove {
             MachineTarget::Direct(k) => format!("straight approach of reference position {k} in {}", axes.join(" ")),
             MachineTarget::Fixed(k) => format!("straight approach of fixed point {k} in {}", axes.join(" ")),
             MachineTarget::Machine => format!("move in machine coordinates to {}", axes.join(" ")),
+            MachineTarget::Limit => format!("retract to the travel limit in {}", axes.join(" ")),
             MachineTarget::Builder => {
                 format!("move in coordinates from the machine builder's datum to {}", axes.join(" "))
             }

@@ -45,6 +45,8 @@ pub enum Kind {
     Fixed(u8),
     /// From the machine builder's datum, to the values given.
     Builder,
+    /// To the travel limit, in the axes marked (Heidenhain `M140 MB MAX`).
+    Limit,
 }
 
 impl Kind {
@@ -58,6 +60,7 @@ impl Kind {
             Kind::Machine => "machine-coordinate move",
             Kind::Fixed(_) => "fixed-point approach",
             Kind::Builder => "move from the machine builder's datum",
+            Kind::Limit => "retract to the travel limit",
         }
     }
 
@@ -472,6 +475,7 @@ impl CanonSink for Trace {
                     MachineTarget::Fixed(k) => Kind::Fixed(k),
                     MachineTarget::Machine => Kind::Machine,
                     MachineTarget::Builder => Kind::Builder,
+                    MachineTarget::Limit => Kind::Limit,
                 };
                 self.machine = Some((kind, m.axes, m.moves()));
             }

@@ -291,6 +291,10 @@ vocab! {
         /// The axes the block names go straight to fixed point `FP=n` (1 to 4, 1 without FP),
         /// with no intermediate point; their values are ignored (SINUMERIK `G75 FP=2 X1=0`).
         FixedPointApproach = "fixed-point-approach",
+        /// The tool axis retracts to its travel limit in one traverse, in the machine's frame
+        /// (Heidenhain `M140 MB MAX`: "to just before the software limit switch"): only the
+        /// machine knows where that is.
+        TravelLimit = "travel-limit",
         /// Coordinate-system shift (G92).
         OriginShift = "origin-shift",
         /// Cancel coordinate-system shift (G92.1, G92.2).

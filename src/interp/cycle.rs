@@ -34,6 +34,13 @@ pub(super) struct HoleRun {
     pub still: bool,
     /// The workpiece surface a defined cycle states (`RFP`, `Q203`).
     pub surface: Option<f64>,
+    /// Whether the R level is known wherever the tool stands: an absolute level (G90 R,
+    /// Siemens `RFP`+`SDIS`, Heidenhain `Q203`+`Q200`), or one counted from a known level.
+    /// From a hole axis the program does not know, the cycle's move to it makes it known.
+    pub r_known: bool,
+    /// Whether the tool returns to the level the cycle began at (G98; above R, as rs274
+    /// has it): from a level the program does not know, an unknown one.
+    pub returns_initial: bool,
 }
 
 impl Interpreter<'_> {
@@ -70,8 +77,14 @@ impl Interpreter<'_> {
         let incremental = self.st.distance == DistanceMode::Incremental;
         let old_z = self.st.pos[n];
         // The initial level is where the first of the cycles in force began: in G91, R counts
-        // from it in every later cycle block too, as rs274 and Fanuc's manuals do.
+        // from it in every later cycle block too, as rs274 and Fanuc's manuals do. Whether the
+        // program knows it is kept with it.
+        if self.st.cycle_initial.is_none() {
+            self.cycle_initial_unknown = !self.knows(n);
+        }
         let initial = *self.st.cycle_initial.get_or_insert(old_z);
+        let r_known = !incremental || !self.cycle_initial_unknown;
+        let returns_initial = self.st.retract == Retract::Initial;
         let r = if incremental { initial + r_word } else { r_word };
         let bottom = if incremental { r + z_word } else { z_word };
         let peck = if matches!(kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking) {
@@ -125,7 +138,23 @@ impl Interpreter<'_> {
         // repeat adds them again to the distance and angle of the hole before, as rs274 does
         // (`G91 G81 ^60 L6`: six holes round the origin, not six steps along one chord).
         let polar = self.slots[Role::PolarRadius as usize].is_some() || self.slots[Role::PolarAngle as usize].is_some();
-        let run = HoleRun { kind, code, r, bottom, clear, old_z, peck, peck_from: r, dwell, shift, clearance, still: false, surface: None };
+        let run = HoleRun {
+            kind,
+            code,
+            r,
+            bottom,
+            clear,
+            old_z,
+            peck,
+            peck_from: r,
+            dwell,
+            shift,
+            clearance,
+            still: false,
+            surface: None,
+            r_known,
+            returns_initial,
+        };
         for _ in 0..repeats as u64 {
             let (x, y) = if polar {
                 let mut t = p;
@@ -206,6 +235,24 @@ impl Interpreter<'_> {
     pub(super) fn hole(&mut self, run: &HoleRun, x: f64, y: f64, p: [f64; 6], sink: &mut dyn CanonSink) -> [f64; 6] {
         let (a0, a1, n) = self.st.plane.axes();
         let HoleRun { kind, r, bottom, clear, old_z, peck, peck_from, dwell, shift, clearance, still, .. } = *run;
+        // From a hole axis the program does not know (after a tool change, a reference
+        // return), the cycle's move to an R level known wherever the tool stands makes it
+        // known (840D CYCLE81 "approach of the reference plane brought forward by the safety
+        // distance with G0"; Heidenhain cycle 200 "to the set-up clearance above the workpiece
+        // surface at FMAX"; G81 in G90: to the absolute R). A return to the level the cycle
+        // began at (G98) is to an unknown level again. Back boring goes down beside the hole
+        // from its start: left unknown. So is a tap of a cycle called over the tool (Heidenhain
+        // 207, 840D CYCLE84): it feeds its pitch (Q239, PIT) times the speed, which the
+        // reading does not model (it takes the feed in force), so no translation of it could
+        // be proven; from an unknown level it stays refused as before.
+        let defined_tap = still && matches!(kind, CycleKind::Tapping | CycleKind::LeftTapping);
+        let known_at_r = run.r_known && kind != CycleKind::BackBoring && !defined_tap && !self.knows(n);
+        let returns_unknown = known_at_r && run.returns_initial;
+        let away = |s: &Self, sink: &mut dyn CanonSink| {
+            if returns_unknown {
+                s.forget(1 << n, sink);
+            }
+        };
         {
             let intent = CycleIntent {
                 kind,
@@ -220,6 +267,8 @@ impl Interpreter<'_> {
                 positioned: still,
                 surface: run.surface,
                 peck_clearance: peck.map(|_| clearance),
+                known_at_r,
+                returns_unknown,
             };
             self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
             let place = |first: f64, z: f64| {
@@ -231,17 +280,24 @@ impl Interpreter<'_> {
             if !(still && p[a0] == x && p[a1] == y) {
                 self.emit(sink, CanonOp::StraightTraverse(at(p[n])));
             }
-            if p[n] != r {
+            // From an unknown level the move to R is made whatever number the analysis gives
+            // that level (equal to R, it would be no move at all in the stream).
+            if known_at_r {
+                self.learn(1 << n, sink);
+            }
+            if p[n] != r || known_at_r {
                 self.emit(sink, CanonOp::StraightTraverse(at(r)));
             }
             match kind {
                 CycleKind::Drilling => {
                     self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    away(self, sink);
                     self.emit(sink, CanonOp::StraightTraverse(at(clear)));
                 }
                 CycleKind::CounterBoring => {
                     self.emit(sink, CanonOp::StraightFeed(at(bottom)));
                     self.emit(sink, CanonOp::Dwell(dwell.unwrap_or(0.0)));
+                    away(self, sink);
                     self.emit(sink, CanonOp::StraightTraverse(at(clear)));
                 }
                 CycleKind::PeckDrilling | CycleKind::ChipBreaking => {
@@ -257,6 +313,7 @@ impl Interpreter<'_> {
                         depth -= q;
                     }
                     self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    away(self, sink);
                     self.emit(sink, CanonOp::StraightTraverse(at(clear)));
                 }
                 CycleKind::Boring | CycleKind::BoringDwell => {
@@ -266,6 +323,7 @@ impl Interpreter<'_> {
                     }
                     self.emit(sink, CanonOp::StraightFeed(at(r)));
                     if clear != r {
+                        away(self, sink);
                         self.emit(sink, CanonOp::StraightTraverse(at(clear)));
                     }
                 }
@@ -285,6 +343,7 @@ impl Interpreter<'_> {
                             self.emit(sink, CanonOp::StraightFeed(at(r)));
                             self.emit(sink, forward);
                             if clear != r {
+                                away(self, sink);
                                 self.emit(sink, CanonOp::StraightTraverse(at(clear)));
                             }
                         }
@@ -292,6 +351,7 @@ impl Interpreter<'_> {
                             self.emit(sink, CanonOp::StopSpindleTurning);
                             self.emit(sink, reverse);
                             self.emit(sink, CanonOp::Dwell(dwell.unwrap_or(0.0)));
+                            away(self, sink);
                             self.emit(sink, CanonOp::StraightFeed(at(clear)));
                             self.emit(sink, CanonOp::StopSpindleTurning);
                             self.emit(sink, forward);
@@ -306,6 +366,7 @@ impl Interpreter<'_> {
                     self.emit(sink, CanonOp::StopSpindleTurning);
                     let shifted = |z: f64| place(x + shift, z);
                     self.emit(sink, CanonOp::StraightTraverse(shifted(bottom)));
+                    away(self, sink);
                     self.emit(sink, CanonOp::StraightTraverse(shifted(clear)));
                     self.emit(sink, CanonOp::StraightTraverse(at(clear)));
                     self.restart_spindle(sink);
@@ -335,6 +396,7 @@ impl Interpreter<'_> {
                     self.emit(sink, CanonOp::StopSpindleTurning);
                     // The operator jogs out; the control then continues from the clear level.
                     self.emit(sink, CanonOp::ProgramStop);
+                    away(self, sink);
                     self.emit(sink, CanonOp::StraightTraverse(at(clear)));
                     self.restart_spindle(sink);
                 }
@@ -342,10 +404,14 @@ impl Interpreter<'_> {
                     self.emit(sink, CanonOp::StraightFeed(at(bottom)));
                     self.emit(sink, CanonOp::Dwell(dwell.unwrap_or(0.0)));
                     self.emit(sink, CanonOp::StopSpindleTurning);
+                    away(self, sink);
                     self.emit(sink, CanonOp::StraightTraverse(at(clear)));
                     self.restart_spindle(sink);
                 }
             }
+            // Where the return made no move (R the analysis's level), the tool is still where
+            // the cycle began or at R: unknown which.
+            away(self, sink);
             self.emit(sink, CanonOp::CycleEnd);
             if kind == CycleKind::BackBoring { at(old_z) } else { at(clear) }
         }

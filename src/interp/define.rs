@@ -364,6 +364,8 @@ impl Interpreter<'_> {
             s.slot(role).map(|v| if s.incremental(role) { s.st.pos[axis] + v } else { v })
         };
         let surface = target(self, n);
+        // An incremental surface counts from where the tool stands.
+        let surface_known = !self.incremental(Role::AXES[n]) || self.knows(n);
         let safety = self.defined_arg(Role::SafetyDistance).map_or(0.0, f64::abs);
         let mut p = self.st.pos;
         if let Some(top) = surface.map(|s| s + safety).filter(|&top| p[n] < top) {
@@ -385,7 +387,7 @@ impl Interpreter<'_> {
             self.emit(sink, CanonOp::StraightTraverse(p));
             self.st.pos = p;
         }
-        self.call_surface = surface;
+        self.call_surface = surface.map(|s| (s, surface_known));
     }
 
     /// The defined cycle's values: its own arguments, then the parameters it reads (the
@@ -421,9 +423,12 @@ impl Interpreter<'_> {
         };
         let cycle = &self.dialect.cycles[defined.cycle];
         let mut args = self.defined_values(&defined);
-        if let Some(surface) = surface {
+        if let Some((surface, _)) = surface {
             args.push((Role::ReferencePlane, surface));
         }
+        // The R level is known wherever the tool stands where the surface is an absolute
+        // level (the cycle's own, `RFP`, `Q203`, or none: 0), not one below the tool.
+        let r_known = surface.map_or(args.iter().any(|(r, _)| *r == Role::ReferencePlane) || !cycle.surface_below_start, |(_, k)| k);
         let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
         if !self.defined_args_given(cycle, &defined, &args, diags) {
             return;
@@ -521,6 +526,8 @@ impl Interpreter<'_> {
             clearance,
             still: true,
             surface: Some(surface),
+            r_known,
+            returns_initial: false,
         };
         // On a lathe (X read as a diameter) a driven tool drills in G17 along Z on the face at
         // the spindle's C angle, in G19 along X into the cylinder (Siemens 840D turning: the
@@ -528,11 +535,13 @@ impl Interpreter<'_> {
         // C) or (Z, C) with its own axis, as the C-axis lathe cycles make them (interp::live).
         // The cycle's planes along X are read as radii, as the X words are [unconfirmed].
         if self.st.diameter && n != 1 {
-            let run = HoleRun { still: false, ..run };
+            let run = HoleRun { still: false, r_known: false, ..run };
             let across = if n == 0 { 2 } else { 0 };
             return self.live_holes(&run, n, 1, p[5], p[across], sink);
         }
-        if p[n] < r {
+        // From a tool-axis position the program does not know, the hole's own first move goes
+        // to R (known from there); from a known one below R, the tool rises to it first.
+        if p[n] < r && (self.knows(n) || !r_known) {
             p[n] = r;
             self.emit(sink, CanonOp::StraightTraverse(p));
         }

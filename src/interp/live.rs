@@ -101,6 +101,8 @@ impl Interpreter<'_> {
             clearance,
             still: false,
             surface: None,
+            r_known: false,
+            returns_initial: false,
         };
         let target = self.target();
         self.live_holes(&run, axis, repeats, target[5], target[across], sink);

@@ -1076,8 +1076,12 @@ pub struct Interpreter<'a> {
     /// The contour a contour-defining call named last (SINUMERIK `CYCLE62`: `"START:END"`),
     /// which the contour cycles after it turn.
     contour_named: Option<String>,
-    /// The surface a cycle call at a position gives the cycle (`CYCL CALL POS ... Z+0`).
-    call_surface: Option<f64>,
+    /// The surface a cycle call at a position gives the cycle (`CYCL CALL POS ... Z+0`), and
+    /// whether it is known wherever the tool stands (absolute, or counted from a known level).
+    call_surface: Option<(f64, bool)>,
+    /// Whether the initial level of the G8x cycles in force (`State::cycle_initial`) is where
+    /// the program does not know the hole axis's position.
+    cycle_initial_unknown: bool,
     /// Tool names met in `T="NAME"` that the tool table does not know, numbered from 10001.
     tool_names: Vec<String>,
     /// Why the file reads as a called program, once something shows it (see [`ProgramRole`]).
@@ -1179,6 +1183,7 @@ impl<'a> Interpreter<'a> {
             cycle_text: None,
             contour_named: None,
             call_surface: None,
+            cycle_initial_unknown: false,
             tool_names: Vec::new(),
             called: (profile.role == ProgramRole::Called)
                 .then(|| "its role is given: the configuration, `--as` or its file name".to_owned()),
@@ -1417,6 +1422,17 @@ impl<'a> Interpreter<'a> {
         self.known.set(self.known.get() & !axes);
         self.stated.set(self.stated.get() & !axes);
         let k = self.known.get();
+        if k != self.known_sent.get() {
+            self.known_sent.set(k);
+            self.emit(sink, CanonOp::Known(k));
+        }
+    }
+
+    /// `axes` (bit `k` for axis `k`) are known from the next move on: a cycle's move to a level
+    /// known wherever the tool stands (its absolute R level). The stream is told at once.
+    pub(in crate::interp) fn learn(&self, axes: u8, sink: &mut dyn CanonSink) {
+        let k = self.known.get() | axes;
+        self.known.set(k);
         if k != self.known_sent.get() {
             self.known_sent.set(k);
             self.emit(sink, CanonOp::Known(k));

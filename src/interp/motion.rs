@@ -405,6 +405,8 @@ impl Interpreter<'_> {
                 positioned: false,
                 surface: None,
                 peck_clearance: None,
+                known_at_r: false,
+                returns_unknown: false,
             };
             self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
             self.emit(sink, CanonOp::RigidTap([t[0], t[1], t[2]]));

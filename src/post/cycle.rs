@@ -68,26 +68,44 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// else the cycle defined anew); otherwise said, and left to the moves that follow.
     fn cycle_begin(&mut self, canon: &Canon, intent: &CycleIntent) {
         self.flush_tool();
-        let out = self.out;
-        let Some(index) = self.output_cycle(canon, intent) else { return };
-        if self.known & 1 << self.plane.axes().2 == 0 {
-            // The hole axis stands where the program does not know: the levels the analysis
-            // gives the cycle may count from an assumed 0 (a G91 R). Left to its moves, which
-            // are refused where they move that axis.
-            return;
+        if !self.cycle_written(canon, intent) {
+            self.unknown_cycle_as_moves(canon, intent);
         }
+    }
+
+    /// Writes the hole as the target's cycle where it drills it as the source's does; false
+    /// where it is left to its moves.
+    fn cycle_written(&mut self, canon: &Canon, intent: &CycleIntent) -> bool {
+        let out = self.out;
+        let unknown = self.known & 1 << self.plane.axes().2 == 0;
+        let Some(index) = self.output_cycle(canon, intent) else { return false };
         let m: &CycleOut = &out.cycles[index];
+        if unknown && !self.unknown_start_written(intent, m) {
+            self.cancel_cycle();
+            if intent.known_at_r && intent.positioned {
+                self.note(
+                    Code::PostCycleAsMoves,
+                    canon,
+                    "unknown-level",
+                    format!(
+                        "the source's {} cycle begins where the program does not know the tool axis's position and goes to its R level first; the target's would rise to R only from below it and return to that unknown level: written as the moves it makes",
+                        intent.kind.label()
+                    ),
+                );
+            }
+            return false;
+        }
         let src_clear = self.source_peck_clearance(intent);
         if self.peck_clearance_differs(canon, intent, m, src_clear) {
-            return;
+            return false;
         }
         let hole = self.hole(intent);
         if self.tap_retract_differs(canon, intent, hole) {
-            return;
+            return false;
         }
         let (surface, restated) = self.surface(intent, m, hole);
         if self.peck_level_differs(canon, intent, m, hole, surface) {
-            return;
+            return false;
         }
         let (params, mut vals) = self.cycle_values(intent, hole, surface, src_clear);
         let same =
@@ -98,7 +116,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             self.cancel_cycle();
             if !self.reach_return_level(canon, intent, m, hole) {
                 self.motion = None;
-                return;
+                return false;
             }
             if let Some(why) = restated {
                 self.note(
@@ -116,6 +134,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
         self.motion = None;
         self.in_cycle = true;
+        true
     }
 
     /// The target's cycle for `intent`, by its index in [`crate::dialect::output::Output::cycles`]; none
@@ -144,6 +163,60 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             return None;
         }
         Some(index)
+    }
+
+    /// Whether a hole begun where the program does not know the hole axis's position is
+    /// written as the target's cycle `m`, which then makes the same moves on the machine from
+    /// wherever the tool stands; otherwise it is left to its moves (said where those would
+    /// not be the source's).
+    ///
+    /// - An R level counted from the unknown one (G91) is known nowhere: left to the moves,
+    ///   which are refused where they move that axis.
+    /// - A G8x hole (the cycle itself moves in the plane, from the level it begins at, and
+    ///   first rises to R where below it) is the target's G8x cycle (`G98`/`G99` stated,
+    ///   read alike by every such control): it returns where the source's does, the unknown
+    ///   initial level under G98 too. As moves its order would depend on where the tool
+    ///   stands: refused.
+    /// - A hole of a cycle called over the tool's position (Siemens `MCALL CYCLE81`,
+    ///   Heidenhain cycle 200 with `M99`), whose first move goes to its R level along the
+    ///   hole axis, is the target's cycle where that is one of the same kind, stating its
+    ///   return level (RTP, Q203+Q204); otherwise its moves, known from R on (a G8x cycle
+    ///   would rise to R first from below it and return to its initial level).
+    fn unknown_start_written(&self, intent: &CycleIntent, m: &CycleOut) -> bool {
+        if !intent.known_at_r {
+            return false;
+        }
+        let g8x_target = m.define.uses(Value::Retract);
+        if !intent.positioned {
+            return g8x_target;
+        }
+        !g8x_target && (m.define.uses(Value::Clear) || m.define.uses(Value::ClearDist))
+    }
+
+    /// Refuses a G8x hole begun where the program does not know the hole axis's position,
+    /// left to its moves: the source's cycle moves in the plane at that level, or first
+    /// rises to R where the tool stands below it, which moves written one by one cannot
+    /// follow (`post::unknown-start`).
+    fn unknown_cycle_as_moves(&mut self, canon: &Canon, intent: &CycleIntent) {
+        let n = self.plane.axes().2;
+        if self.known & 1 << n != 0 || !intent.known_at_r || intent.positioned {
+            return;
+        }
+        let moves = self.known & 0b11 != 0b11
+            || (intent.x * self.scale + self.g92[0] - self.pos[0]).abs() > 1e-6
+            || (intent.y * self.scale + self.g92[1] - self.pos[1]).abs() > 1e-6;
+        if moves || intent.returns_unknown {
+            let msg = format!(
+                "the translation is refused: the {} cycle begins where the program does not know the position along its axis (no absolute word for it since a tool change or a reference return); the source's control {}, which the target's moves cannot state",
+                intent.kind.label(),
+                if intent.returns_unknown {
+                    "returns to that level after the hole (G98)"
+                } else {
+                    "moves to the hole at that level, or first rises to R where the tool stands below it"
+                }
+            );
+            self.note(Code::PostUnknownStart, canon, "unknown-start", msg);
+        }
     }
 
     /// How far above the last peck the source's cycle comes back down at rapid, mm.
@@ -302,7 +375,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         vals.set(Value::X, x).set(Value::Y, y).set(Value::Bottom, bottom).set(Value::RPlane, r).set(Value::Clear, clear);
         vals.set(Value::Surface, surface).set(Value::Sdis, r - surface).set(Value::Depth, bottom - surface);
         vals.set(Value::ClearDist, clear - surface).set(Value::Peck, peck).set(Value::CycleDwell, dwell);
-        vals.set(Value::Retract, if clear > r + 1e-6 { 98.0 } else { 99.0 }).set(Value::F, feed);
+        // From an unknown level under G98 the cycle returns to that level: the target's G98.
+        let initial = intent.returns_unknown || clear > r + 1e-6;
+        vals.set(Value::Retract, if initial { 98.0 } else { 99.0 }).set(Value::F, feed);
         vals.set(Value::Seconds, dwell).set(Value::Millis, dwell * 1000.0).set(Value::PeckClearance, src_clear / self.opts.units.to_mm());
         // A hole where the tool stands, at a position the program does not know: the cycle
         // drills there, without the numbers the analysis gives it.
@@ -320,6 +395,12 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         // one below R (G99 returns to R; Heidenhain's second set-up clearance counts only
         // above the first) unless the target states the clear level itself.
         let below_r = clear < r - 1e-6 && !m.define.uses(Value::Clear);
+        // From an unknown level the tool stands nowhere the writer could compare: the cycle
+        // is written only where it returns as the source's does (`unknown_start_written`).
+        let unknown = self.known & 1 << self.plane.axes().2 == 0;
+        if unknown && !below_r {
+            return true;
+        }
         if below_r || m.define.uses(Value::Retract) && clear > r + 1e-6 && (self.pos[2] - clear).abs() > 1e-6 {
             if below_r || self.pos[2] < clear {
                 self.note(

@@ -44,6 +44,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             MachineTarget::Fixed(_) => "fixed-point",
             MachineTarget::Machine => "machine-rapid",
             MachineTarget::Builder => "machine-builder-rapid",
+            MachineTarget::Limit => "travel-limit",
         };
         let writable = self.out.template(event).is_some_and(|(t, _)| !t.0.is_empty());
         if !writable {
@@ -88,7 +89,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             for (k, v) in pending.marker.axes.iter().enumerate() {
                 if let Some(v) = v {
                     let x = match pending.marker.target {
-                        MachineTarget::Reference(_) | MachineTarget::Direct(_) | MachineTarget::Fixed(_) => 0.0,
+                        MachineTarget::Reference(_) | MachineTarget::Direct(_) | MachineTarget::Fixed(_) | MachineTarget::Limit => 0.0,
                         MachineTarget::Machine | MachineTarget::Builder if k < 3 => self.to_out(*v),
                         MachineTarget::Machine | MachineTarget::Builder => *v,
                     };

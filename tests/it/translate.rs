@@ -962,8 +962,9 @@ fn motion_unknown(src: &str, from: &str, to: &str) -> Vec<(usize, String)> {
 /// after it would run elsewhere (a rapid through the part after a retract left out).
 #[test]
 fn a_code_whose_motion_is_unknown_refuses_the_translation() {
-    // Heidenhain M140 MB MAX: a retract along the tool axis (TNC user's manual).
-    let tnc = "BEGIN PGM H1 MM\nTOOL CALL 1 Z S2000\nL Z+100 R0 FMAX M3\nL X+10 Y+10 R0 FMAX\nL Z-5 R0 F100\nM140 MB MAX\nL X+50 Y+50 R0 FMAX\nEND PGM H1 MM\n";
+    // Heidenhain M140 MB 50: a retract by 50 mm along the tool axis (TNC user's manual); MB
+    // MAX, to the travel limit, is modelled (`translate_known`).
+    let tnc = "BEGIN PGM H1 MM\nTOOL CALL 1 Z S2000\nL Z+100 R0 FMAX M3\nL X+10 Y+10 R0 FMAX\nL Z-5 R0 F100\nM140 MB 50\nL X+50 Y+50 R0 FMAX\nEND PGM H1 MM\n";
     for to in ["fanuc", "siemens", "linuxcnc"] {
         let r = motion_unknown(tnc, "heidenhain", to);
         assert_eq!(r.len(), 1, "{to}: {r:?}");

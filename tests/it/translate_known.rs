@@ -283,3 +283,111 @@ fn a_frame_change_without_motion_is_no_incremental_move() {
     let g28 = "O1012\nG10 L2 P2 X50. Y0. Z0.\nG90 G54 G0 X0. Y0. Z50.\nG91 G28 X0. Y0.\nG90 G55\nG0 Z20.\nM30\n";
     assert_eq!(refused_lines(g28, "fanuc", "haas"), Vec::<usize>::new());
 }
+
+/// The lines of `out` after its change to tool 1 (`T1 M6`).
+fn after_tool_change(out: &str) -> Vec<&str> {
+    let at = out.lines().position(|l| words(l).iter().any(|w| *w == "T1" || w.starts_with("T1M"))).expect("a tool change");
+    out.lines().skip(at + 1).collect()
+}
+
+/// A drilling cycle called right after a tool change positions the tool axis itself: 840D
+/// CYCLE81 goes at rapid to the reference plane brought forward by the safety distance
+/// (RFP+SDIS, absolute), Heidenhain cycle 200 to the set-up clearance above the surface
+/// (Q203+Q200). The translation states no Z before it (the tool change left it where only the
+/// machine knows), writes the target's cycle where that states its planes the same way, the
+/// cycle's own moves where it does not, and the proof agrees.
+#[test]
+fn a_defined_cycle_after_a_tool_change_makes_the_tool_axis_known_at_its_r_level() {
+    let sinumerik = "N10 G0 G90 G54 X0 Y0 Z100\nN20 T1 M6\nN30 G0 X10 Y10 S1000 F100 M3\nN40 MCALL CYCLE81(50,0,2,-10)\nN50 X10 Y10\nN60 X30 Y10\nN70 MCALL\nN80 G0 Z100\nN90 M30\n";
+    for to in MILLS {
+        let (out, diags) = translate(sinumerik, "siemens", to);
+        // No error: the proof agrees, the known axes move by move among it (a Z from
+        // before the tool change restated would be a difference).
+        assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{to}:\n{out}");
+    }
+    // Heidenhain states the same planes: cycle 200 from Q203 with Q204 above it.
+    let (out, _) = translate(sinumerik, "siemens", "heidenhain");
+    assert!(out.contains("Q203=+0") && out.contains("Q204=+50") && out.contains("Q200=+2"), "{out}");
+    // A G8x target returns to its initial level or R, not to RTP: the first hole is its moves,
+    // the tool axis written from R on.
+    let (out, _) = translate(sinumerik, "siemens", "fanuc");
+    let after = after_tool_change(&out);
+    let first_z = after.iter().find(|l| names_axis(l, 'Z')).unwrap_or(&"");
+    assert!(words(first_z).contains(&"Z2."), "{first_z}\n{out}");
+
+    let tnc = "0 BEGIN PGM T MM\n1 L X+0 Y+0 Z+100 R0 FMAX\n2 TOOL CALL 1 Z S1000\n3 CYCL DEF 200 DRILLING ~\n  Q200=+2 ;SET-UP CLEARANCE ~\n  Q201=-10 ;DEPTH ~\n  Q206=+150 ;FEED RATE FOR PLNGNG ~\n  Q202=+10 ;PLUNGING DEPTH ~\n  Q210=+0 ;DWELL TIME AT TOP ~\n  Q203=+0 ;SURFACE COORDINATE ~\n  Q204=+50 ;2ND SET-UP CLEARANCE ~\n  Q211=+0 ;DWELL TIME AT DEPTH\n4 L X+10 Y+10 R0 FMAX M3 M99\n5 L X+30 FMAX M99\n6 L Z+100 FMAX\n7 END PGM T MM\n";
+    for to in MILLS {
+        let (out, diags) = translate(tnc, "heidenhain", to);
+        assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{to}:\n{out}");
+    }
+    let (out, _) = translate(tnc, "heidenhain", "siemens");
+    assert!(out.contains("MCALL CYCLE81(50.,0.,2.,-10.)") || out.contains("CYCLE81(50"), "{out}");
+    // The surface stated relative to where the tool stands (`CYCL CALL POS` with an
+    // incremental tool-axis word) is known nowhere: refused, never counted from an assumed 0.
+    let relative = tnc.replace("4 L X+10 Y+10 R0 FMAX M3 M99", "4 CYCL CALL POS X+10 Y+10 IZ+0 FMAX M3");
+    assert_ne!(refused_lines(&relative, "heidenhain", "fanuc"), Vec::<usize>::new(), "{relative}");
+}
+
+/// A G8x cycle from a Z the program does not know (after a tool change): its move to R is
+/// absolute under G90, so Z is known from there; under G98 it returns to the unknown initial
+/// level, so Z is unknown again. A G8x target writes the same cycle, G98 and all (its
+/// control returns to the same level); a target whose cycle returns to a plane it states, or
+/// the moves one by one, cannot: refused, never a return to a number counted from before the
+/// tool change.
+#[test]
+fn a_g98_cycle_from_an_unknown_z_stays_a_g98_cycle_or_is_refused() {
+    let src = "O1000\nG21 G17 G90\nG0 G54 X0. Y0. Z50.\nT1 M6\nG0 X10. Y10. S1000 M3\nG98 G81 X10. Y10. Z-10. R2. F100.\nX30.\nG80\nG0 Z100.\nM30\n";
+    for to in ["fanuc", "haas", "mitsubishi", "mazak", "okuma", "linuxcnc"] {
+        let (out, diags) = translate(src, "fanuc", to);
+        assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{to}:\n{out}");
+        let cycle = out.lines().find(|l| l.contains("G81")).unwrap_or_else(|| panic!("{to}: no G81 in\n{out}"));
+        let r = words(cycle).iter().find_map(|w| w.strip_prefix('R').and_then(|v| v.parse::<f64>().ok()));
+        assert!(words(cycle).contains(&"G98") && r == Some(2.0), "{to}: {cycle}");
+        // Nothing states Z between the tool change and the cycle.
+        let at = out.lines().position(|l| l.contains("M6") || l.contains("M06")).unwrap_or(0);
+        assert!(!out.lines().skip(at).take_while(|l| !l.contains("G81")).any(|l| names_axis(l, 'Z')), "{to}:\n{out}");
+    }
+    for to in ["siemens", "heidenhain"] {
+        assert_eq!(refused_lines(src, "fanuc", to), vec![6], "{to}");
+    }
+    // G99: back to R, known from there; a G8x target writes G99.
+    let g99 = src.replace("G98 G81", "G99 G81");
+    let (out, diags) = translate(&g99, "fanuc", "linuxcnc");
+    assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{out}");
+    assert!(out.lines().any(|l| words(l).contains(&"G99") && l.contains("G81")), "{out}");
+    // In G91 R counts from the unknown initial level: known nowhere, refused.
+    let g91 = src.replace("G98 G81 X10. Y10. Z-10. R2. F100.\nX30.", "G91 G98 G81 X0. Y0. Z-12. R-48. F100.\nX20.\nG90");
+    assert_eq!(refused_lines(&g91, "fanuc", "haas"), vec![6]);
+}
+
+/// Heidenhain `M140 MB MAX` retracts the tool axis to its travel limit: a move in the machine's
+/// frame (as a reference return), after which the tool axis is unknown in the work frame. A
+/// target that has it writes it; one that has not refuses it as unwritable, never drops it.
+/// `M140 MB n` stays unmodelled and refused (`a_code_whose_motion_is_unknown_refuses_the_translation`).
+#[test]
+fn m140_mb_max_is_a_retract_to_the_travel_limit() {
+    let tnc = "0 BEGIN PGM H1 MM\n1 TOOL CALL 1 Z S2000\n2 L X+10 Y+10 R0 FMAX M3\n3 L Z+100 R0 FMAX\n4 L Z-5 R0 F100\n5 M140 MB MAX\n6 L X+50 Y+50 R0 FMAX\n7 L Z+10 R0 FMAX\n8 END PGM H1 MM\n";
+    let (out, diags) = translate(tnc, "heidenhain", "heidenhain");
+    assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{out}");
+    let after = block_after(&out, "M140 MB MAX");
+    // The move after it states X Y, not the Z it left (unknown): Z is written only where
+    // the program states it again.
+    assert!(!names_axis(after[1], 'Z'), "{out}");
+    assert!(words(after[2]).contains(&"Z+10"), "{out}");
+    for to in ["fanuc", "siemens", "linuxcnc"] {
+        let (out, diags) = translate(tnc, "heidenhain", to);
+        let e = errors(&diags);
+        assert!(e.iter().any(|d| d.code.as_str() == "post::unwritable" && d.message.contains("travel limit")), "{to}: {e:?}\n{out}");
+        assert!(!e.iter().any(|d| d.code.as_str() == "post::motion-unknown"), "{to}: {e:?}");
+    }
+}
+
+/// The Heidenhain target's tilted plane turns the rotary axes with no retraction first: a
+/// source's tilt (G68.2, CYCLE800 without its retract) makes none.
+#[test]
+fn the_heidenhain_tilted_plane_adds_no_retract() {
+    let src = "O1000\nG21 G17 G90\nT1 M6\nG0 G54 X0. Y0. S1000 M3\nG43 H1 Z50.\nG68.2 X0. Y0. Z0. I0. J30. K0.\nG53.1\nG0 X10. Y10.\nG1 Z-1. F100.\nG0 Z50.\nG69\nM30\n";
+    let (out, _) = translate(src, "fanuc", "heidenhain");
+    let plane = out.lines().find(|l| l.contains("PLANE SPATIAL")).unwrap_or_else(|| panic!("no PLANE in\n{out}"));
+    assert!(plane.contains("TURN FMAX") && !plane.contains("MB"), "{plane}");
+}

@@ -317,6 +317,7 @@ pub const EVENTS: &[&str] = &[
     "home-2",
     "machine-rapid",
     "machine-builder-rapid",
+    "travel-limit",
     "thread",
     "rigid-tap",
     "css-on",

@@ -50,7 +50,13 @@ use crate::text::TextRange;
 fn homes(m: Meaning) -> bool {
     matches!(
         m,
-        Meaning::Home1 | Meaning::Home2 | Meaning::Home1Set | Meaning::Home2Set | Meaning::ReferenceApproach | Meaning::FixedPointApproach
+        Meaning::Home1
+            | Meaning::Home2
+            | Meaning::Home1Set
+            | Meaning::Home2Set
+            | Meaning::ReferenceApproach
+            | Meaning::FixedPointApproach
+            | Meaning::TravelLimit
     )
 }
 

@@ -189,6 +189,7 @@ impl Interpreter<'_> {
                 self.home(p.filter(|p| (2.0..=4.0).contains(p)).map_or(2, |p| p as u8), sink);
             }
             Meaning::ReferenceApproach | Meaning::FixedPointApproach => self.reference_approach(def, sink),
+            Meaning::TravelLimit => self.travel_limit(sink),
             _ => {
                 // The reference positions are kept in machine coordinates, mm.
                 let m = self.machine_pos();
@@ -352,6 +353,18 @@ impl Interpreter<'_> {
         }
         self.emit(sink, CanonOp::StraightTraverse(end));
         self.st.pos = end;
+    }
+
+    /// Heidenhain `M140 MB MAX` (TNC 640 user's manual, "Retraction in the tool axis
+    /// direction: M140"): the tool axis alone, in the tilted plane the tool axis in force,
+    /// retracts to just before its software limit switch, in one traverse. Where that is,
+    /// only the machine knows: the analysis leaves the position as it was, and the axis is
+    /// unknown in the work frame after it, as after a reference return.
+    fn travel_limit(&mut self, sink: &mut dyn CanonSink) {
+        let (_, _, n) = self.st.plane.axes();
+        let axes = std::array::from_fn(|i| (i == n).then_some(0.0));
+        self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target: MachineTarget::Limit, axes })));
+        self.emit(sink, CanonOp::StraightTraverse(self.st.pos));
     }
 
     /// G28 (`k` 1) or G30 (`k` 2 to 4): a rapid through the block's point, then to the
