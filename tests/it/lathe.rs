@@ -891,7 +891,10 @@ fn lathe_s7_held_out_programs() {
 /// index). Only the sidecars are committed; written before ncplan ran on them. Measured once on
 /// 7 December 2026 (integrate c2111971): 57 of 60, no milling feature; the misses: the
 /// two-sided part's groove by three `G75` plunges (no grooving rough found in its place), and
-/// O0121's contouring finish and cut-off (not found in the order listed).
+/// O0121's contouring finish and cut-off (not found in the order listed). No longer held back:
+/// 59 of 60 after branch lathe19 (session 19: `G75` plunges side by side within the tool's
+/// width one grooving, a plunge behind the part to a pip parting off); left: O0121's finish,
+/// written in two pieces around an undercut subprogram not in the file (read as roughing).
 ///
 /// `tests/programs/lathe_s18b_heldout/` is sweep 18's second held-back set (branch gather18c: 6
 /// programs of 1 repository, 12 items), files no test used of a repository earlier sets drew on
@@ -905,7 +908,12 @@ fn lathe_s7_held_out_programs() {
 /// once on 7 December 2026 (integrate c2111971): 4 of 11 items the test counts, no milling
 /// feature; the misses: the four `CYCLE952` roughings and the finish of contours held in the
 /// `CYCLE62` programs beside them (not read with the file: no workingstep), the `POCKET3` pocket
-/// under `TRANSMIT` and the `MCALL CYCLE82` drilling under `TRACYL`.
+/// under `TRANSMIT` and the `MCALL CYCLE82` drilling under `TRACYL`. No longer held back: the
+/// contour programs the `CYCLE62` calls name were added beside the main programs (SOURCES rows,
+/// sidecars: alone they machine nothing), the programs are read with their folder as `ncplan
+/// plan` reads a file, and a drilling or milling workingstep's spindle speed is scored (the
+/// harness read it only for turning ones): 10 of 11 after branch lathe19 (session 19); left: the
+/// `POCKET3` roughing (its `_VARI` units digit 1) named by its finishing pass, side finish milling.
 ///
 /// `tests/programs/lathe_build16/` is branch lathe22's own build set (see `lathe_build16_programs`).
 #[test]
