@@ -124,6 +124,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     }
     group_passes(plan, remeasure);
     one_groove(plan, remeasure);
+    plunges_side_by_side(plan, remeasure);
     face_groove_walls(plan, remeasure);
     for ws in &mut plan.workingsteps {
         off_the_face(ws, remeasure);
@@ -1147,6 +1148,73 @@ fn one_groove(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     plan.workingsteps = out;
 }
 
+/// Grooving cycles that each plunge at one place along Z (Fanuc's `G75` with no Z shift, a
+/// program moving the tool along Z between the calls) to the same floor, side by side: a groove
+/// wider than the tool cut in several plunges, as the cycle itself would cut it with its Z
+/// shift (its shift, the manual's Δk, is less than the tool's width, so that no stock stands
+/// between the plunges). Joined into one grooving workingstep where each plunge lies within the
+/// tool's width of the one before: the tool's width must be known (its name or comment, the
+/// tool table); without it two plunges may be two grooves.
+fn plunges_side_by_side(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
+    let groove_cycle = |w: &Workingstep| {
+        w.holes.is_empty()
+            && w.turning
+                .as_deref()
+                .and_then(|t| t.intent.as_ref())
+                .is_some_and(|i| i.kind == Some(TurnKind::Groove) && i.span.is_none() && i.step.is_none())
+    };
+    let widths: Vec<(u32, f64)> = plan.tools.iter().filter_map(|t| tool_width(t).map(|w| (t.number, w))).collect();
+    let mut out: Vec<Workingstep> = Vec::new();
+    for ws in std::mem::take(&mut plan.workingsteps) {
+        let width = widths.iter().find(|(n, _)| *n == ws.tool).map(|(_, w)| *w);
+        let joins = out.last().is_some_and(|prev| {
+            let (Some(width), true, true, true) = (width, groove_cycle(prev), groove_cycle(&ws), same_run(prev, &ws)) else {
+                return false;
+            };
+            let (Some(a), Some(b)) = (plunge_span(prev), plunge_span(&ws)) else { return false };
+            a.inward == b.inward && (a.floor - b.floor).abs() < TOL && a.lo.max(b.lo) - a.hi.min(b.hi) <= width + TOL
+        });
+        match out.last_mut() {
+            Some(prev) if joins => {
+                join(prev, ws);
+                remeasure(prev);
+            }
+            _ => out.push(ws),
+        }
+    }
+    for (k, ws) in out.iter_mut().enumerate() {
+        ws.index = k as u32 + 1;
+    }
+    plan.workingsteps = out;
+}
+
+/// Plunges straight across X at one or more places along Z, all the same way in, off the axis.
+struct PlungeSpan {
+    /// -1 in from outside, 1 out into a bore's wall.
+    inward: f64,
+    /// The Z stretch of the plunges, mm.
+    lo: f64,
+    hi: f64,
+    /// The radius the deepest plunge reaches.
+    floor: f64,
+}
+
+/// A workingstep's cuts as plunges straight across X (pecks included: each peck's feed goes
+/// in), or none where any cut moves along Z, reaches the axis or goes back out at feed.
+fn plunge_span(w: &Workingstep) -> Option<PlungeSpan> {
+    let cuts = cuts(w);
+    let first = cuts.first()?;
+    let inward = (first.to[0] - first.from[0]).signum();
+    let straight = |m: &Move| m.arc.is_none() && (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]) * inward > TOL;
+    if !cuts.iter().all(|m| straight(m) && m.from[0].min(m.to[0]) >= 0.05) {
+        return None;
+    }
+    let zs = cuts.iter().map(|m| m.to[2]);
+    let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), z| (l.min(z), h.max(z)));
+    let floor = cuts.iter().map(|m| m.to[0] * inward).fold(f64::NEG_INFINITY, f64::max) * inward;
+    Some(PlungeSpan { inward, lo, hi, floor })
+}
+
 /// A face grooving cycle (`G74` off the axis: pecks along -Z) and the passes the same tool
 /// then cuts in that groove, each plunged along -Z into the face and left back up along +Z
 /// (`face_plunges`), over diameters that take in the cycle's plunges (its walls and floor cut
@@ -1535,7 +1603,18 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     if face_grooving {
         t.inside = false;
     }
+    // A single plunge straight across X behind the whole part (at or past the deepest Z every
+    // other workingstep cuts) down to a tenth of the diameter it starts from parts the part
+    // off, stopped short of the centre so that it leaves a pip rather than tearing it off (a
+    // groove there would leave too little to hold the part).
+    let pip = runs.len() == 1
+        && cuts.iter().all(|m| straight_across(m) && m.to[0] < m.from[0])
+        && back.is_finite()
+        && zmax <= back + TOL
+        && xmin >= 0.05
+        && xmin <= 0.1 * xmax;
     let (op, rough) = match intent_kind {
+        None if pip && t.pitch.is_none() => (TurnOp::PartingOff, false),
         Some(TurnKind::RoughTurn) if runs.last().is_some_and(|r| face_contour(r)) => (TurnOp::Facing, true),
         // A contour cycle run outside by a grooving tool the program names (`(OD GROOVE TURN)`
         // with a `G71`/`G70` pair over a recess): groove turning, roughed by the roughing cycle
@@ -2335,6 +2414,14 @@ pub fn words(ws: &Workingstep) -> Option<String> {
         }
         if let Some(r) = i.retract {
             parts.push(format!("retract {}", num(r)));
+        }
+        // A pattern repeating cycle (Fanuc `G73`): how far its first pass lies off the
+        // contour (U per side, W) and in how many passes it comes in, as the diff names them.
+        if let Some([u, w]) = i.relief {
+            parts.push(format!("pattern relief U{} W{}", num(u), num(w)));
+        }
+        if let Some(n) = i.divisions {
+            parts.push(format!("pattern passes {n}"));
         }
         if let Some(h) = i.thread_depth {
             parts.push(format!("thread height {}", num(h)));
