@@ -42,9 +42,16 @@ impl Interpreter<'_> {
         if !self.plain_state() {
             return false;
         }
-        // `X1=10` (a machine axis name): the general way says it.
-        if self.machine_axis_names && block.words.iter().any(|w| numbered_axis(block.text(w.range).as_bytes())) {
-            return false;
+        // `X1=10` (a machine axis name): the general way says it. Each word's bytes are taken
+        // from the block's source by offset, as `Block::text` takes its text, without the
+        // character-boundary checks of a `str` slice: a Siemens program asks this of every
+        // block (the words of `G1 X=XP Y=YP` cost more to slice as text than to look at).
+        if self.machine_axis_names {
+            let (src, at) = (block.source().as_bytes(), block.range.start);
+            let word = |r: TextRange| src.get(r.start.wrapping_sub(at) as usize..r.end.wrapping_sub(at) as usize).unwrap_or_default();
+            if block.words.iter().any(|w| numbered_axis(word(w.range))) {
+                return false;
+            }
         }
         let exprs = !block.exprs.is_empty();
         if exprs && !self.plain_expressions(block) {
@@ -333,6 +340,10 @@ pub(super) fn straight_keyword(d: &Dialect, c: usize) -> bool {
 
 /// `X1=10`: a letter, one or two digits, then `=` (not `X10`, not `X=10`).
 fn numbered_axis(t: &[u8]) -> bool {
+    // Most words with no number after their letter (`X=XP`) end here.
+    if !t.get(1).is_some_and(u8::is_ascii_digit) {
+        return false;
+    }
     let digits = t.iter().skip(1).take_while(|c| c.is_ascii_digit()).count();
     (1..=2).contains(&digits) && t.get(1 + digits) == Some(&b'=')
 }
