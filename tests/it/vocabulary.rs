@@ -594,7 +594,12 @@ fn a_makers_own_alarm_on_a_guessed_dialect_is_a_warning() {
     assert!(given.iter().any(|x| x.code == Code::DwellPointAlarm && x.is_error()), "{given:?}");
     // A finding every maker's control stops at stays an error on a guess (an arc whose radius
     // cannot reach its end).
-    let bad = interpret(&text.replace("X2.P.5\n", "X2.P.5\nG80\nG1Z.1F10.\nG3X5.Y1.R.1\n"), &d, &Profile { guessed: true, ..Profile::default() }, &mut Vec::new());
+    let bad = interpret(
+        &text.replace("X2.P.5\n", "X2.P.5\nG80\nG1Z.1F10.\nG3X5.Y1.R.1\n"),
+        &d,
+        &Profile { guessed: true, ..Profile::default() },
+        &mut Vec::new(),
+    );
     assert!(!errors(&bad).is_empty(), "{bad:?}");
 }
 
