@@ -68,6 +68,16 @@ macro_rules! codes {
     };
 }
 
+impl Code {
+    /// Whether the finding holds for one maker's control alone: it follows from a behaviour
+    /// the dictionary states for its maker (`dwell-point="alarm"`) where other makers whose
+    /// dictionaries share its lineage read the same text otherwise. On a dialect guessed from
+    /// weak evidence such an error is a warning ([`crate::interp::Profile::guessed`]).
+    pub fn maker_specific(self) -> bool {
+        matches!(self, Code::DwellPointAlarm)
+    }
+}
+
 codes! {
     /// The input contains NUL or control bytes and is not a part program.
     BinaryInput = ("text::binary", Error),
@@ -118,6 +128,11 @@ codes! {
     NoFunction = ("syntax::no-function", Error),
     /// A number that cannot be read.
     MalformedNumber = ("syntax::malformed-number", Error),
+    /// A dwell's P written with a decimal point (`G04 P2.`, `G82 ... P.5`, a cycle's repeat
+    /// line `X2. P1.`) on a control that takes only a whole number of milliseconds there and
+    /// stops with an alarm (Fanuc PS0007). It holds for that maker alone (Haas reads seconds):
+    /// on a dialect guessed from weak evidence it is a warning.
+    DwellPointAlarm = ("interp::dwell-point-alarm", Error),
     /// A comment that is not closed before the end of the line.
     UnterminatedComment = ("syntax::unterminated-comment", Error),
     /// A comment holding the character that opens one, where the control stops at it

@@ -86,16 +86,20 @@ fn sniff_table(registry: &Registry, programs: &[(String, PathBuf)]) -> (String, 
     (rows, md)
 }
 
-/// The dialect a corpus program is checked in: its folder's, or the one told from its text.
-fn dialect_for(registry: &Registry, folder: &str, path: &Path) -> std::sync::Arc<ncplan::dialect::Dialect> {
-    let name = match folder_dialect(folder) {
-        Some(n) => n.to_owned(),
+/// The dialect a corpus program is checked in: its folder's, or the one told from its text,
+/// and whether it was a guess (told from weak evidence: `check` then keeps findings that hold
+/// for its maker alone as warnings).
+fn dialect_for(registry: &Registry, folder: &str, path: &Path) -> (std::sync::Arc<ncplan::dialect::Dialect>, bool) {
+    let (name, guessed) = match folder_dialect(folder) {
+        Some(n) => (n.to_owned(), false),
         None => {
             let bytes = std::fs::read(path).unwrap_or_default();
-            ncplan::pipeline::sniff(registry, &bytes, path).dialect
+            let s = ncplan::pipeline::sniff(registry, &bytes, path);
+            let guessed = s.guessed();
+            (s.dialect, guessed)
         }
     };
-    registry.get(&name).unwrap()
+    (registry.get(&name).unwrap(), guessed)
 }
 
 /// `tests/golden/corpus/errors.tsv`: per program, the dialect and the number of error
@@ -152,9 +156,9 @@ impl ncplan::interp::ProgramSource for FlatCorpus {
     }
 }
 
-fn errors_of(path: &Path, dialect: &ncplan::dialect::Dialect) -> (usize, String) {
+fn errors_of(path: &Path, dialect: &ncplan::dialect::Dialect, guessed: bool) -> (usize, String) {
     let bytes = std::fs::read(path).unwrap_or_default();
-    let a = ncplan::pipeline::analyze(&bytes, dialect, &FlatCorpus::profile(path));
+    let a = ncplan::pipeline::analyze(&bytes, dialect, &Profile { guessed, ..FlatCorpus::profile(path) });
     let errors: Vec<_> = a.diagnostics.iter().filter(|d| d.is_error()).collect();
     (errors.len(), errors.first().map_or(String::new(), |d| d.code.as_str().to_owned()))
 }
@@ -211,8 +215,8 @@ fn update_error_golden(dir: &Path, registry: &Registry, programs: &[(String, Pat
     let mut rows = String::from("# folder\tfile\tdialect\terrors\tfirst error code\treason the errors are genuine (reasons.tsv)\n");
     let mut by_folder: BTreeMap<String, Tally> = BTreeMap::new();
     for (folder, path) in programs {
-        let d = dialect_for(registry, folder, path);
-        let (n, first) = errors_of(path, &d);
+        let (d, guessed) = dialect_for(registry, folder, path);
+        let (n, first) = errors_of(path, &d, guessed);
         let file = path.file_name().unwrap().to_string_lossy();
         let reason = if n > 0 {
             why.get(&format!("{folder}/{file}"))
@@ -308,10 +312,10 @@ fn main() {
         trials.push(trial.with_ignored_flag(!available));
     }
     for (folder, f) in programs {
-        let dialect = dialect_for(&registry, &folder, &f);
+        let (dialect, guessed) = dialect_for(&registry, &folder, &f);
         let key = format!("{folder}/{}", f.file_name().unwrap().to_string_lossy());
         let expected = expected_errors.get(&key).cloned();
-        trials.push(Trial::test(format!("check/{key}"), move || check(&f, &dialect, expected)));
+        trials.push(Trial::test(format!("check/{key}"), move || check(&f, &dialect, guessed, expected)));
     }
     // What the control rejects stays rejected (issue 43): every program of
     // tests/sweeps/issue43/rejected.tsv still has an error.
@@ -324,7 +328,7 @@ fn main() {
         let dialect = registry.get(dialect);
         let trial = Trial::test(format!("rejected/{program}"), move || {
             let Some(dialect) = dialect else { return Err("no such dialect".into()) };
-            match errors_of(&path, &dialect) {
+            match errors_of(&path, &dialect, false) {
                 (0, _) => Err(format!("{} reads without an error, but its control rejects it", path.display()).into()),
                 _ => Ok(()),
             }
@@ -361,9 +365,9 @@ fn program_for(corpus: &Path, stem: &str) -> PathBuf {
     }
 }
 
-fn check(path: &Path, dialect: &ncplan::dialect::Dialect, expected: Option<(String, usize)>) -> Result<(), Failed> {
+fn check(path: &Path, dialect: &ncplan::dialect::Dialect, guessed: bool, expected: Option<(String, usize)>) -> Result<(), Failed> {
     let bytes = std::fs::read(path)?;
-    let a = ncplan::pipeline::analyze(&bytes, dialect, &FlatCorpus::profile(path));
+    let a = ncplan::pipeline::analyze(&bytes, dialect, &Profile { guessed, ..FlatCorpus::profile(path) });
     let errors: Vec<_> = a.diagnostics.iter().filter(|d| d.is_error()).collect();
     match &expected {
         None => return Err("not in tests/golden/corpus/errors.tsv; run with UPDATE_EXPECT=1".into()),

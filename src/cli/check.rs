@@ -61,13 +61,14 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
             bar.inc(1);
             continue;
         };
-        let name = match &input.dialect {
-            Some(n) => n.clone(),
+        let (name, guessed) = match &input.dialect {
+            Some(n) => (n.clone(), false),
             None => {
                 let beside = config::DirPrograms::beside(&base, file, config.max_file_bytes);
                 let s = pipeline::sniff_in(&registry, &bytes, file, &beside);
                 bar.suspend(|| eprintln!("{}{}", if many { format!("{}: ", file.display()) } else { String::new() }, sniff_report(&s)));
-                s.dialect
+                let guessed = s.guessed();
+                (s.dialect, guessed)
             }
         };
         let d = dialect(&registry, &name)?;
@@ -79,6 +80,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
             RoleArg::Auto => base.role,
         };
         config.profile.role = pipeline::role_for(given, file, &d);
+        config.profile.guessed = guessed;
         let mut a = pipeline::analyze_plan_owned(bytes, &d, &config.profile);
         if strict {
             for x in a.diagnostics.iter_mut().filter(|x| x.code == Code::MissingProgram) {

@@ -189,6 +189,7 @@ pub(super) fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8
         None => {
             let s = pipeline::sniff_in(&registry, &bytes, &input.file, &config.profile);
             eprintln!("{}", sniff_report(&s));
+            config.profile.guessed = s.guessed();
             s.dialect
         }
     };
@@ -212,6 +213,7 @@ pub(super) fn input_program(input: &Input) -> Result<(Arc<Dialect>, Config, text
         None => {
             let s = pipeline::sniff_in(&registry, program.head_bytes(), &input.file, &config.profile);
             eprintln!("{}", sniff_report(&s));
+            config.profile.guessed = s.guessed();
             s.dialect
         }
     };

@@ -71,6 +71,16 @@ pub struct Sniffed {
     pub candidates: Vec<String>,
 }
 
+impl Sniffed {
+    /// Whether the dialect is a guess: low confidence (no evidence, a tie, evidence another
+    /// maker's dictionary shares, or evidence against it), so nothing in the text shows a code
+    /// of the maker's own. A reading on it keeps findings that hold for that maker alone as
+    /// warnings ([`crate::interp::Profile::guessed`]).
+    pub fn guessed(&self) -> bool {
+        self.confidence == Confidence::Low
+    }
+}
+
 /// How much of a file is looked at.
 const SNIFF_BYTES: usize = 64 * 1024;
 

@@ -272,6 +272,12 @@ pub struct Profile {
     /// What the machine's own configuration adds to the language (LinuxCNC's INI: remapped
     /// codes, HAL pins, switchable kinematics), read by the shell; empty by default.
     pub machine: std::sync::Arc<MachineSetup>,
+    /// The dialect was guessed from weak evidence (the sniff's low confidence: no code of the
+    /// maker's own, or evidence another maker's dictionary shares), not configured or given:
+    /// a finding that holds for that maker's control alone ([`Code::maker_specific`]: the
+    /// Fanuc dwell-point alarm) is a warning that says so, since another maker's control of
+    /// the family may run the block.
+    pub guessed: bool,
 }
 
 /// Whether a file is a main program or a called one (a subprogram, a macro, a `PROC`).
@@ -374,6 +380,7 @@ impl Default for Profile {
             calculator_input: false,
             turns: false,
             machine: std::sync::Arc::default(),
+            guessed: false,
         }
     }
 }
@@ -409,7 +416,24 @@ pub fn interpret<'t>(text: impl Into<Text<'t>>, dialect: &Dialect, profile: &Pro
         let msg = format!("the text before the `%` on line {line} is tape leader: the control skips it, and so does this analysis");
         diags.insert(0, Diagnostic::new(Code::Leader, range, msg));
     }
+    if profile.guessed {
+        guessed_maker(&mut diags, dialect);
+    }
     diags
+}
+
+/// On a dialect guessed from weak evidence, a finding that holds for its maker's control alone
+/// ([`Code::maker_specific`]) is no error: nothing in the program shows that maker, and
+/// another maker's control of the family runs the block. It stays a warning that says the
+/// family was guessed and what that maker's control would do.
+fn guessed_maker(diags: &mut [Diagnostic], dialect: &Dialect) {
+    for d in diags.iter_mut().filter(|d| d.is_error() && d.code.maker_specific()) {
+        d.severity = Severity::Warning;
+        d.message = format!(
+            "{}; the dialect ({}) was guessed from evidence that shows no code of its maker's own, and another maker's control of the family may run it: give --dialect to choose",
+            d.message, dialect.name
+        );
+    }
 }
 
 /// A program in a format the dialect names as foreign (Mazatrol unit blocks in a Mazak

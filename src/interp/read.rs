@@ -387,12 +387,21 @@ impl Interpreter<'_> {
     }
 
     /// Whether the block's P is a dwell time: a dwell (`G04`) or a canned drilling or boring
-    /// cycle (`G82 ... P`, `G89 ... P`) among its codes.
+    /// cycle (`G82 ... P`, `G89 ... P`) among its codes, or a repeat line of the canned cycle in
+    /// force (`X2. P1.` under a modal `G82`: the cycle runs again at the new position with the
+    /// new dwell; Fanuc and Haas operator's manuals, canned cycles: the cycle's data stay modal
+    /// and a block of them alone repeats it), where no code of the block takes a P of its own
+    /// (`M98 P`, `G10 P`) and none sets another motion.
     fn dwell_block(&self) -> bool {
-        self.codes.iter().any(|&(c, _)| {
+        let own = self.codes.iter().any(|&(c, _)| {
             let m = self.code(c).meaning;
             m == Meaning::Dwell || m.is_cycle()
-        })
+        });
+        own || (self.st.motion_code.is_some_and(|c| self.code(c).meaning.is_cycle())
+            && !self.codes.iter().any(|&(c, _)| {
+                let def = self.code(c);
+                def.params.takes(Role::P) || !def.args.is_empty() || self.dialect.groups[def.group].step == Step::Motion
+            }))
     }
 
     /// A dwell's P written with a decimal point (`G04 P2.`, `G89 ... P2.`), as the dialect
@@ -413,7 +422,7 @@ impl Interpreter<'_> {
                 let msg = format!(
                     "`{shown}`: a dwell's P takes no decimal point on this control (a whole number of milliseconds); it stops with an alarm"
                 );
-                diags.push(Diagnostic::new(Code::MalformedNumber, range, msg));
+                diags.push(Diagnostic::new(Code::DwellPointAlarm, range, msg));
                 v
             }
         }

@@ -538,20 +538,69 @@ fn a_dwell_p_with_a_decimal_point_by_control() {
     let text = "O1\nG04 P1.5\nG04 P1500\nG89 X1. Y1. Z-1. R1. P2. F10.\nG80\nM30\n";
     for dialect in ["fanuc", "fanuc_lathe"] {
         let d = read(dialect, text);
-        let bad: Vec<_> = d.iter().filter(|x| x.code == Code::MalformedNumber && x.is_error()).collect();
+        let bad: Vec<_> = d.iter().filter(|x| x.code == Code::DwellPointAlarm && x.is_error()).collect();
         assert!(bad.iter().any(|x| x.message.contains("`P1.5`")), "{dialect}: {d:?}");
         assert!(!bad.iter().any(|x| x.message.contains("P1500")), "{dialect}: {d:?}");
     }
     assert!(read("fanuc", text).iter().any(|x| x.is_error() && x.message.contains("`P2.`")));
     for dialect in ["haas", "haas_lathe", "mitsubishi", "mazak", "okuma", "lnc"] {
         let d = read(dialect, text);
-        assert!(!d.iter().any(|x| x.code == Code::MalformedNumber), "{dialect}: {d:?}");
+        assert!(!d.iter().any(|x| x.code == Code::DwellPointAlarm), "{dialect}: {d:?}");
     }
     let dwells = |dialect: &str| -> Vec<String> {
         run(dialect, "O1\nG04 P1.5\nG04 P1500\nM30\n").0.into_iter().filter(|c| c.starts_with("DWELL")).collect()
     };
     assert_eq!(dwells("haas"), ["DWELL(1.5000)", "DWELL(1.5000)"]);
     assert_eq!(dwells("fanuc")[1], "DWELL(1.5000)");
+}
+
+/// A canned cycle's repeat line (`X2. P1.` under a modal `G82`) gives the cycle a new dwell:
+/// its P is the dwell as in the cycle's own block (Haas: a decimal point is seconds; Fanuc: an
+/// alarm). A P of a code of the block's own (`M98 P1.`) is not the dwell.
+#[test]
+fn a_cycle_repeat_line_reads_its_dwell_as_the_cycle_block_does() {
+    let text = "O1\nG90 G0 X0 Y0 Z1.\nG82 X1. Y1. Z-1. R.1 P1. F10.\nX2. P.5\nX3.\nG80\nM30\n";
+    let (calls, diags) = run("haas", text);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let dwells: Vec<&String> = calls.iter().filter(|c| c.starts_with("DWELL")).collect();
+    // Haas: 1 s at the first hole, 0.5 s at the second and (the P modal) the third.
+    assert_eq!(dwells, ["DWELL(1.0000)", "DWELL(0.5000)", "DWELL(0.5000)"], "{calls:#?}");
+    let fanuc = read("fanuc", text);
+    let alarms: Vec<_> = fanuc.iter().filter(|x| x.code == Code::DwellPointAlarm && x.is_error()).collect();
+    assert!(alarms.iter().any(|x| x.message.contains("`P.5`")), "{fanuc:?}");
+    // Whole milliseconds on the repeat line: no alarm.
+    let whole = read("fanuc", "O1\nG90 G0 X0 Y0 Z1.\nG82 X1. Y1. Z-1. R.1 P1000 F10.\nX2. P500\nG80\nM30\n");
+    assert!(!whole.iter().any(|x| x.code == Code::DwellPointAlarm), "{whole:?}");
+}
+
+/// Where the dialect is a guess (low confidence: no code of its maker's own), a finding that
+/// holds for that maker alone (the Fanuc dwell-point alarm: Haas reads the point as seconds) is
+/// a warning that says the dialect was guessed; a dialect given (`-d fanuc`) keeps it an error.
+#[test]
+fn a_makers_own_alarm_on_a_guessed_dialect_is_a_warning() {
+    // (A `G04 P.5` would tell a Haas program; a cycle's repeat line does not.)
+    let text = "%\nO0001\nT1M6\nG90G54G0X1.Y1.S1000M3\nG43Z1.H1\nG82X1.Y1.Z-.2R.1P500F10.\nX2.P.5\nG80\nM30\n%\n";
+    let registry = Registry::shipped();
+    let sniffed = ncplan::pipeline::sniff(&registry, text.as_bytes(), std::path::Path::new("part.ptp"));
+    assert_eq!(sniffed.dialect, "fanuc", "{sniffed:?}");
+    assert!(sniffed.guessed(), "{sniffed:?}");
+    let d = registry.get("fanuc").unwrap();
+    let mut out = Vec::new();
+    let guessed = interpret(text, &d, &Profile { guessed: true, ..Profile::default() }, &mut out);
+    assert!(errors(&guessed).is_empty(), "{:?}", errors(&guessed));
+    let w = guessed.iter().find(|x| x.code == Code::DwellPointAlarm).expect("the alarm, as a warning");
+    assert!(!w.is_error() && w.message.contains("guessed") && w.message.contains("`P.5`"), "{w:?}");
+    let given = read("fanuc", text);
+    assert!(given.iter().any(|x| x.code == Code::DwellPointAlarm && x.is_error()), "{given:?}");
+    // A finding every maker's control stops at stays an error on a guess (an arc whose radius
+    // cannot reach its end).
+    let bad = interpret(
+        &text.replace("X2.P.5\n", "X2.P.5\nG80\nG1Z.1F10.\nG3X5.Y1.R.1\n"),
+        &d,
+        &Profile { guessed: true, ..Profile::default() },
+        &mut Vec::new(),
+    );
+    assert!(!errors(&bad).is_empty(), "{bad:?}");
 }
 
 /// A `(` inside a comment: LinuxCNC's rs274 stops with "Nested comment found" (NIST
