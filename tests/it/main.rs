@@ -100,6 +100,7 @@ mod translate;
 mod translate_known;
 mod translate_lathe;
 mod unknown_values;
+mod vocab_makers;
 mod vocabulary;
 mod web;
 mod web_attacks;
