@@ -101,6 +101,7 @@ mod translate_known;
 mod translate_lathe;
 mod translate_stream;
 mod unknown_values;
+mod vocab_makers;
 mod vocabulary;
 mod web;
 mod web_attacks;
