@@ -69,6 +69,7 @@ mod equivalence;
 mod express;
 mod fagor;
 mod faults;
+mod fixa19;
 mod first_start;
 mod flow;
 mod home18;
