@@ -68,10 +68,7 @@ fn fine_and_back_boring_are_never_written_as_moves_with_an_unstated_shift() {
         for to in ["haas", "linuxcnc", "siemens", "heidenhain"] {
             let (text, diags) = translate(program, &dialect("fanuc"), &dialect(to), "O1000");
             let r = refusals(program, &diags);
-            assert!(
-                r.iter().any(|(c, at)| c == "post::motion-unknown" && at.starts_with(code)),
-                "fanuc → {to}: {r:?}\n{text}"
-            );
+            assert!(r.iter().any(|(c, at)| c == "post::motion-unknown" && at.starts_with(code)), "fanuc → {to}: {r:?}\n{text}");
         }
     }
     // The reading orients the spindle in fine boring too.
@@ -85,8 +82,18 @@ fn fine_and_back_boring_are_never_written_as_moves_with_an_unstated_shift() {
 #[test]
 fn a_called_program_not_found_refuses_the_translation_at_the_call() {
     let cases = [
-        ("fanuc", "%\nO1000\nG21 G17 G90\nT1 M6\nG54 G0 X0. Y0. S1000 M3\nG43 H1 Z10.\nM98 P9001\nG1 X20. F100.\nM30\n%\n", "M98 P9001", "haas"),
-        ("haas", "%\nO1000\nG20 G17 G90\nT1 M6\nG54 G0 X0. Y0. S1000 M3\nG43 H1 Z1.\nG65 P9010 A1.\nG0 Z2.\nM30\n%\n", "G65 P9010", "fanuc"),
+        (
+            "fanuc",
+            "%\nO1000\nG21 G17 G90\nT1 M6\nG54 G0 X0. Y0. S1000 M3\nG43 H1 Z10.\nM98 P9001\nG1 X20. F100.\nM30\n%\n",
+            "M98 P9001",
+            "haas",
+        ),
+        (
+            "haas",
+            "%\nO1000\nG20 G17 G90\nT1 M6\nG54 G0 X0. Y0. S1000 M3\nG43 H1 Z1.\nG65 P9010 A1.\nG0 Z2.\nM30\n%\n",
+            "G65 P9010",
+            "fanuc",
+        ),
         ("siemens", "G17 G90 G71\nT1 D1\nM6\nG54 G0 X0 Y0 S1000 M3\nZ10\nL100 P3\nG1 X20 F100\nM30\n", "L100 P3", "fanuc"),
         (
             "heidenhain",
@@ -105,7 +112,8 @@ fn a_called_program_not_found_refuses_the_translation_at_the_call() {
 #[test]
 fn an_error_in_the_reading_refuses_the_translation() {
     // The arc's radii differ (3 from its start, 7 at its end): LinuxCNC stops there.
-    let program = "G21 G17 G40 G49 G80 G90 G94\nT1 M6\nG54 G0 X0 Y0 S1000 M3\nG43 H1 Z10\nG1 Z-1 F100\nG2 X10 Y0 I3 J0\nG1 X20 Y5\nG0 Z50\nM2\n";
+    let program =
+        "G21 G17 G40 G49 G80 G90 G94\nT1 M6\nG54 G0 X0 Y0 S1000 M3\nG43 H1 Z10\nG1 Z-1 F100\nG2 X10 Y0 I3 J0\nG1 X20 Y5\nG0 Z50\nM2\n";
     let (text, diags) = translate(program, &dialect("linuxcnc"), &dialect("fanuc"), "O1000");
     let r = refusals(program, &diags);
     assert!(r.iter().any(|(c, at)| c == "post::source-error" && at.contains("G2")), "{r:?}\n{text}");
@@ -130,7 +138,8 @@ fn a_linuxcnc_stored_parameter_is_unknown_unless_the_program_sets_it() {
 
 #[test]
 fn a_return_to_a_taught_reference_position_is_refused_and_a_bare_return_names_no_unused_axis() {
-    let taught = "G21 G17 G40 G49 G80 G90 G94\nT1 M6\nG54 G0 X0 Y0 S1000 M3\nG43 H1 Z10\nG0 X5 Y5\nG28.1\nG0 X20 Y20\nG28\nG0 X1 Y1\nG0 Z50\nM2\n";
+    let taught =
+        "G21 G17 G40 G49 G80 G90 G94\nT1 M6\nG54 G0 X0 Y0 S1000 M3\nG43 H1 Z10\nG0 X5 Y5\nG28.1\nG0 X20 Y20\nG28\nG0 X1 Y1\nG0 Z50\nM2\n";
     let (text, diags) = translate(taught, &dialect("linuxcnc"), &dialect("fanuc"), "O1000");
     let r = refusals(taught, &diags);
     assert!(r.iter().any(|(c, at)| c == "post::motion-unknown" && at == "G28"), "{r:?}\n{text}");
