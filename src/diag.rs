@@ -311,6 +311,11 @@ codes! {
     /// The program has a motion ncplan does not know (`interp::motion-unknown`): a translation
     /// would drop it or move elsewhere, so none is written.
     PostMotionUnknown = ("post::motion-unknown", Error),
+    /// The program has an error where ncplan reads it (the control stops there, or ncplan
+    /// cannot read what it does): what follows it is not known as the control runs it, so a
+    /// translation is refused rather than written past it (an arc whose radii differ written
+    /// as a straight cut).
+    PostSourceError = ("post::source-error", Error),
     /// An axis moves incrementally from a position the program does not know (`G91` or
     /// `U`/`W`/`IX` before any absolute word for it, or after a reference return): the target
     /// cannot state that move incrementally, and an absolute position counted from an assumed

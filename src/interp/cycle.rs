@@ -114,8 +114,19 @@ impl Interpreter<'_> {
                 | CycleKind::BoringManual
         )
         .then(|| self.dwell_seconds(self.st.sticky_p.unwrap_or(0.0)));
-        // The shift of fine and back boring: Q along +X (parameter 5101 RD1 = RD2 = 0).
+        // The shift of fine and back boring: Q, in the direction the control's parameters set
+        // (Fanuc 5101 RD1/RD2), after an oriented stop at the angle they set: read along +X
+        // for the plan, but the program states neither, so where the shifted moves go is not
+        // known here and a translation refuses rather than write moves that may drag or crash
+        // the bar (back boring rapids down through the bore on the shift alone).
         let shift = if matches!(kind, CycleKind::FineBoring | CycleKind::BackBoring) { self.st.sticky_q.unwrap_or(0.0).abs() } else { 0.0 };
+        if shift != 0.0 {
+            let msg = format!(
+                "{} orients the spindle and shifts the bar by Q in a direction the control's parameters set (Fanuc 5101 RD1/RD2), which the program does not state: where the shifted moves go is not known here, so a translation cannot write them as moves",
+                def.label()
+            );
+            self.limited(diags, "motion-unknown", Diagnostic::new(Code::MotionUnknown, block.range, msg));
+        }
         let repeats = self.slot(Role::L).or(self.slot(Role::K).filter(|_| dwell_word != Role::K)).unwrap_or(1.0);
         if repeats < 0.0 || repeats.fract() != 0.0 {
             diags.push(Diagnostic::new(Code::MalformedNumber, block.range, "the repeat count must be a whole number"));
@@ -281,13 +292,18 @@ impl Interpreter<'_> {
                 self.emit(sink, CanonOp::StraightTraverse(at(p[n])));
             }
             // From an unknown level the move to R is made whatever number the analysis gives
-            // that level (equal to R, it would be no move at all in the stream).
+            // that level (equal to R, it would be no move at all in the stream). Back boring goes
+            // down to R (below the part) only with the bar shifted, the spindle oriented: its own
+            // moves below.
             if known_at_r {
                 self.learn(1 << n, sink);
             }
-            if p[n] != r || known_at_r {
+            if (p[n] != r || known_at_r) && kind != CycleKind::BackBoring {
                 self.emit(sink, CanonOp::StraightTraverse(at(r)));
             }
+            // Fine and back boring stop the spindle oriented (Fanuc's G76/G87 sequence), so the
+            // shift moves the cutting edge off the wall.
+            let orient = CanonOp::OrientSpindle { angle: 0.0, mode: 0 };
             match kind {
                 CycleKind::Drilling => {
                     self.emit(sink, CanonOp::StraightFeed(at(bottom)));
@@ -363,7 +379,7 @@ impl Interpreter<'_> {
                     if let Some(d) = dwell.filter(|d| *d > 0.0) {
                         self.emit(sink, CanonOp::Dwell(d));
                     }
-                    self.emit(sink, CanonOp::StopSpindleTurning);
+                    self.emit(sink, orient.clone());
                     let shifted = |z: f64| place(x + shift, z);
                     self.emit(sink, CanonOp::StraightTraverse(shifted(bottom)));
                     away(self, sink);
@@ -375,7 +391,7 @@ impl Interpreter<'_> {
                     // From the initial level: stop, shift, rapid down to R below the part,
                     // shift back, bore upwards to Z, stop, shift, rapid out.
                     let shifted = |z: f64| place(x + shift, z);
-                    self.emit(sink, CanonOp::StopSpindleTurning);
+                    self.emit(sink, orient.clone());
                     self.emit(sink, CanonOp::StraightTraverse(shifted(p[n])));
                     self.emit(sink, CanonOp::StraightTraverse(shifted(r)));
                     self.emit(sink, CanonOp::StraightTraverse(at(r)));
@@ -384,7 +400,7 @@ impl Interpreter<'_> {
                     if let Some(d) = dwell.filter(|d| *d > 0.0) {
                         self.emit(sink, CanonOp::Dwell(d));
                     }
-                    self.emit(sink, CanonOp::StopSpindleTurning);
+                    self.emit(sink, orient.clone());
                     self.emit(sink, CanonOp::StraightTraverse(shifted(bottom)));
                     self.emit(sink, CanonOp::StraightTraverse(shifted(old_z)));
                     self.emit(sink, CanonOp::StraightTraverse(at(old_z)));

@@ -614,6 +614,9 @@ struct State {
     /// and G30.1 store new ones).
     home1: [f64; 6],
     home2: [f64; 6],
+    /// The reference positions the program stored itself (bit 1: G28.1, bit 2: G30.1): a
+    /// return to one goes where only this program says, not to the machine's own.
+    home_taught: u8,
     g92: [f64; 6],
     /// The shift G92.2 suspended, for G92.3.
     g92_saved: [f64; 6],
@@ -782,6 +785,7 @@ impl State {
             modal_macro: None,
             home1: profile.home1,
             home2: profile.home2,
+            home_taught: 0,
             g92: [0.0; 6],
             g92_saved: [0.0; 6],
             tool_offset: [0.0; 3],

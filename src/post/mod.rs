@@ -364,15 +364,30 @@ pub fn translate_with_facts<'t>(
 /// written. Each motion the reading could not know (`interp::motion-unknown`: a code whose
 /// documented effect moves the machine, kept as intent) refuses the translation at its
 /// place, as an error the caller does not write past.
+/// A program called but not found (`flow::missing-program`, even where the control may hold
+/// it) is such a motion too: its moves are dropped, and the block after the call would be
+/// written as if the position had not changed. An error of the reading refuses the
+/// translation at the first one (`post::source-error`): past it, the reading is not the
+/// control's.
 fn refusals(diags: &[Diagnostic]) -> Vec<Diagnostic> {
-    diags
+    let mut out: Vec<Diagnostic> = diags
         .iter()
-        .filter(|d| d.code == Code::MotionUnknown)
+        .filter(|d| matches!(d.code, Code::MotionUnknown | Code::MissingProgram))
         .map(|d| {
             let msg = format!("the translation is refused: {}; written without it, the program would move elsewhere", d.message);
             Diagnostic::new(Code::PostMotionUnknown, d.range, msg)
         })
-        .collect()
+        .collect();
+    let source_error = |d: &&Diagnostic| d.is_error() && !d.code.as_str().starts_with("post::") && d.code != Code::MissingProgram;
+    if let Some(first) = diags.iter().filter(source_error).min_by_key(|d| (d.range.start, d.range.end)) {
+        let msg = format!(
+            "the translation is refused: the program has an error here ({}: {}); past it the reading is not the control's, so nothing is written",
+            first.code.as_str(),
+            first.message
+        );
+        out.push(Diagnostic::new(Code::PostSourceError, first.range, msg));
+    }
+    out
 }
 
 /// Ops handed from the reading thread to the writing one at a time.

@@ -70,6 +70,7 @@ mod express;
 mod fagor;
 mod faults;
 mod first_start;
+mod fixa19;
 mod flow;
 mod home18;
 mod lathe;

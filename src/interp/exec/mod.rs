@@ -216,7 +216,7 @@ impl Interpreter<'_> {
             | Meaning::TiltRelative
             | Meaning::TiltReset => self.tilt_code(def, range, block, sink, diags),
             Meaning::Scaling | Meaning::ScalingCancel => self.scaling_code(def, range, block, diags),
-            m if homes(m) => self.home_code(def, sink),
+            m if homes(m) => self.home_code(def, range, sink, diags),
             // G53, M91, M92: the block's move is in machine (or builder's) coordinates; read at motion.
             Meaning::MachineCoords | Meaning::MachineBuilderCoords => {}
             Meaning::Rapid

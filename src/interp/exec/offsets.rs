@@ -180,13 +180,20 @@ impl Interpreter<'_> {
 
     /// G28, G30 (to a reference position, through the block's point) and G28.1, G30.1 (the
     /// current position becomes it).
-    pub(super) fn home_code(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
+    pub(super) fn home_code(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         match def.meaning {
-            Meaning::Home1 => self.home(1, sink),
+            Meaning::Home1 => {
+                self.taught_home(1, def, range, diags);
+                self.home(1, sink);
+            }
             // Fanuc `G30 P3`: the third reference position (P2 to P4; without P the second).
             Meaning::Home2 => {
                 let p = self.slot(Role::P).filter(|_| def.params.takes(Role::P)).map(f64::round);
-                self.home(p.filter(|p| (2.0..=4.0).contains(p)).map_or(2, |p| p as u8), sink);
+                let k = p.filter(|p| (2.0..=4.0).contains(p)).map_or(2, |p| p as u8);
+                if k == 2 {
+                    self.taught_home(2, def, range, diags);
+                }
+                self.home(k, sink);
             }
             Meaning::ReferenceApproach | Meaning::FixedPointApproach => self.reference_approach(def, sink),
             Meaning::TravelLimit => self.travel_limit(sink),
@@ -199,11 +206,27 @@ impl Interpreter<'_> {
                 }
                 if def.meaning == Meaning::Home1Set {
                     self.st.home1 = home;
+                    self.st.home_taught |= 1;
                 } else {
                     self.st.home2 = home;
+                    self.st.home_taught |= 2;
                 }
             }
         }
+    }
+
+    /// A return to reference position `k` (1 or 2) after the program stored it itself (G28.1,
+    /// G30.1): it goes to where the tool stood then, which the target's return (to its own
+    /// stored position) does not, so a translation refuses it (`interp::motion-unknown`).
+    fn taught_home(&mut self, k: u8, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        if self.st.home_taught & k == 0 {
+            return;
+        }
+        let msg = format!(
+            "{} returns to the position this program stored (G28.1/G30.1), not to the machine's own reference position: a translation's return goes to the target machine's stored position, so it cannot be written",
+            def.label()
+        );
+        self.limited(diags, "motion-unknown", Diagnostic::new(Code::MotionUnknown, range, msg));
     }
 
     /// The current position in machine coordinates.
@@ -392,7 +415,18 @@ impl Interpreter<'_> {
         // An absolute intermediate point is known on the way (`G90 G28 Z5`); the axes the
         // return moves are unknown after it (`CanonOp::MachineMove`).
         self.stated.set(stated);
-        let axes = std::array::from_fn(|i| (!any || self.slots[Role::AXES[i] as usize].is_some()).then_some(0.0));
+        let home = if first { self.st.home1 } else { self.st.home2 };
+        // Without axis words every axis returns; a rotary axis the program never used, at 0 and
+        // with its reference at 0, is left out: it does not move, and a target writing it
+        // (`A0. B0. C0.`) would name axes a three-axis machine rejects.
+        let homed: [bool; 6] = std::array::from_fn(|i| {
+            if any {
+                self.slots[Role::AXES[i] as usize].is_some()
+            } else {
+                i < 3 || self.knows(i) || self.st.pos[i] != 0.0 || home[i] != 0.0
+            }
+        });
+        let axes = std::array::from_fn(|i| homed[i].then_some(0.0));
         let target = MachineTarget::Reference(k);
         self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target, axes })));
         if let Some(w) = quill {
@@ -407,9 +441,8 @@ impl Interpreter<'_> {
         if !any || quill.is_some() {
             self.st.quill = 0.0;
         }
-        let home = if first { self.st.home1 } else { self.st.home2 };
         let mut end = mid;
-        let moves = |i: usize| !any || self.slots[Role::AXES[i] as usize].is_some();
+        let moves = |i: usize| homed[i];
         let k = |i: usize| if i < 3 { 1.0 / self.st.units.to_mm() } else { 1.0 };
         // The tool offsets move the controlled point: the tool's tip reaches the reference
         // position, so its program position is short of it by the offset (rs274).
