@@ -543,6 +543,11 @@ pub struct Behaviour {
     /// radius compensation is on (`modes-under-comp="locked"`: RS274/NGC, LinuxCNC), so that
     /// the order of G40 against such a code counts.
     pub comp_locks_modes: bool,
+    /// Whether the control stops at a plane code (G17–G19) that changes the plane while
+    /// cutter or tool-nose radius compensation is on (`plane-under-comp="stops"`: Fanuc alarm
+    /// PS0037 "CAN NOT CHANGE PLANE IN G41/G42", Mitsubishi P112; implied by
+    /// `modes-under-comp="locked"`); otherwise what the control does is not known (a warning).
+    pub plane_under_comp_stops: bool,
 }
 
 /// The spindle and retract sequence of a tapping cycle at the bottom of the hole.
@@ -924,6 +929,11 @@ pub struct CodeDef {
     /// not model (`moves="true"`: Heidenhain `M140`, a retract): read with
     /// `interp::motion-unknown`, and a translation refuses rather than drop the motion.
     pub moves: bool,
+    /// A spelling some posts write that the control does not take (`rejected="CYCL DEF"`:
+    /// Heidenhain `CYCLE DEF`, where Klartext has `CYCL DEF`): the control's own spelling. The
+    /// block is read as meant, with an error where it stands (`syntax::rejected-spelling`),
+    /// for the control stops there.
+    pub rejected: Option<String>,
 }
 
 /// What a data-setting code (`G10 L..`) sets, by its L value.

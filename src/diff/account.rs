@@ -142,9 +142,41 @@ pub(super) fn account(
             _ => None,
         })
         .collect();
+    restopped(changes, &|o| verdict::same_line(o, (&sa, &sb), &hunks));
     locate(a, b, (&sa, &sb), hunks, pairs, changes);
     changes.splice(0..0, told);
     super::place::name_places(changes, (a.text, b.text), (&sa, &sb), (a.dialect, b.dialect), &moved);
+}
+
+/// Stops that stayed where they were, told as removed from one workingstep and added to
+/// another only because the edit moved a workingstep's first line past them (a `STOP` between
+/// two workingsteps is the earlier one's where the later one now opens with a `TOOL CALL`
+/// before its spindle start): a stop removed at an original statement and the same stop added
+/// at that statement's line in the edited program (`same`: the edited line of an original
+/// one, where the statements around it are unchanged) are no change.
+fn restopped(changes: &mut Vec<Change>, same: &dyn Fn(u32) -> Option<u32>) {
+    let single = |c: &Change| c.detail.at.len() <= 1;
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let (ChangeKind::StopRemoved, Some(o)) = (c.kind, c.original_line) else {
+            k += 1;
+            continue;
+        };
+        let Some(e) = same(o).filter(|_| single(c)) else {
+            k += 1;
+            continue;
+        };
+        let words = c.before.clone();
+        match changes.iter().position(|d| d.kind == ChangeKind::StopAdded && d.line == Some(e) && d.after == words && single(d)) {
+            Some(j) => {
+                changes.remove(k.max(j));
+                changes.remove(k.min(j));
+                k = k.min(j);
+            }
+            None => k += 1,
+        }
+    }
 }
 
 /// Whether the two programs differ only inside `( )` remarks, read as if a remark's own
@@ -423,7 +455,7 @@ fn all_same(bk: &Bulk, sa: &[Stmt], sb: &[Stmt], same: &[(Option<u32>, Option<u3
 /// in one block, so the order within a group counts (`G91` then `G90` is not `G90` then
 /// `G91`); the order across groups does not, save where the control stops at a plane or units
 /// code under cutter radius compensation (the dictionary's `modes-under-comp`: RS274/NGC,
-/// LinuxCNC): there `G40` then `G18` runs and `G18` then `G40` stops the program, so a plane or
+/// LinuxCNC; `plane-under-comp`: Fanuc PS0037, the plane only): there `G40` then `G18` runs and `G18` then `G40` stops the program, so a plane or
 /// units code is told apart by whether a `G40` of the hunk's earlier statements comes before
 /// it (in one block the control sets the plane and units before compensation: LinuxCNC's order
 /// of execution). Each as (original line, None) or (None, edited line).
@@ -454,8 +486,8 @@ fn modal_state(p: Program<'_>, s: &[Stmt], r: &std::ops::Range<usize>) -> Option
         for t in statement::tokens_in(&statement::text_of(p.text, p.dialect, &s[k]), p.dialect) {
             let code = about(&t, p.dialect);
             comp_off_here |= matches!(code, About::Code(M::CompOff));
-            let locked = p.dialect.behaviour.comp_locks_modes
-                && matches!(code, About::Code(M::PlaneXy | M::PlaneXz | M::PlaneYz | M::UnitsInch | M::UnitsMm));
+            let locked = (p.dialect.behaviour.comp_locks_modes && matches!(code, About::Code(M::UnitsInch | M::UnitsMm)))
+                || (p.dialect.behaviour.plane_under_comp_stops && matches!(code, About::Code(M::PlaneXy | M::PlaneXz | M::PlaneYz)));
             let group = match code {
                 About::Code(
                     m @ (M::PlaneXy
