@@ -588,6 +588,10 @@ pub struct Macros {
     /// The columns of a tool table the program reads and writes as system data by number
     /// (Heidenhain `FN 17: SYSWRITE ID50 NR1 IDX5 = +0`: group 50, column 1, tool 5).
     pub tool_columns: Vec<ToolColumn>,
+    /// The tool table as a table the program opens and writes by column name (Heidenhain
+    /// `FN 26: TABOPEN TNC:\TOOL.T`, then `FN 27: TABWRITE 5/"L,R" = Q2`): `None` where the
+    /// dictionary names none.
+    pub tool_table: Option<ToolTable>,
     /// Deepest allowed nesting of calls.
     pub call_depth: u32,
     /// Whether digits above the fourth of a subprogram call's P are its repeat count
@@ -722,8 +726,23 @@ impl Default for Macros {
             machine_functions: Vec::new(),
             tool_data: Vec::new(),
             tool_columns: Vec::new(),
+            tool_table: None,
         }
     }
+}
+
+/// The tool table as a table a program opens and writes by column name
+/// (`<tool-table file="TOOL.T" group="50" open="TABOPEN" write="TABWRITE"/>`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolTable {
+    /// The tool table's file name (`TOOL.T`), compared without case and path.
+    pub file: String,
+    /// The system data group whose `tool-column` names are its columns (`50`).
+    pub group: u32,
+    /// The keyword code that opens a table (`TABOPEN`), upper case.
+    pub open: String,
+    /// The keyword code that writes a row's columns of the open table (`TABWRITE`), upper case.
+    pub write: String,
 }
 
 /// A tool table's column as system data by number: its group (`ID50`, the tool table), its

@@ -61,6 +61,10 @@ struct Item {
     /// Its statements' tokens whole, the original's and the edited one's (empty for a side
     /// that has none): a statement told from all its words (a tool table's column written).
     tokens: (Vec<Token>, Vec<Token>),
+    /// For a statement that writes a table's row (the dictionary's `tool-table` write keyword,
+    /// Heidenhain `FN 27: TABWRITE`): the table each side's program opened last before it
+    /// (`FN 26: TABOPEN TNC:\TOOL.T`), as written.
+    tables: (Option<String>, Option<String>),
 }
 
 /// A hunk too large to tell statement by statement.
@@ -780,7 +784,9 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
                 jump_words.1.extend(t[..t.len() - target.len()].iter().filter(|_| !target.is_empty()).map(|t| t.text.clone()));
             }
             let tokens = (x.map(|x| ta[x].clone()).unwrap_or_default(), y.map(|y| tb[y].clone()).unwrap_or_default());
+            let tables = (open_table(a, sa, oi, &tokens.0), open_table(b, sb, ei, &tokens.1));
             items.push(Item {
+                tables,
                 tokens,
                 jump_words,
                 calls,
@@ -797,6 +803,23 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
         }
     }
     (items, bulks)
+}
+
+/// The table `p` opened last before its statement `k` (the dictionary's `tool-table` open
+/// keyword: Heidenhain `FN 26: TABOPEN TNC:\TOOL.T`), as written, where that statement (its
+/// `tokens`) writes a table's row (the `tool-table` write keyword, `FN 27: TABWRITE`).
+fn open_table(p: Program<'_>, s: &[Stmt], k: Option<usize>, tokens: &[Token]) -> Option<String> {
+    let tt = p.dialect.macros.tool_table.as_ref()?;
+    let k = k?;
+    let writes = tokens.iter().any(|t| t.text.to_ascii_uppercase().contains(&tt.write));
+    if !writes {
+        return None;
+    }
+    s[..k].iter().rev().find_map(|st| {
+        let text = statement::text_of(p.text, p.dialect, st);
+        let at = text.to_ascii_uppercase().find(&tt.open)? + tt.open.len();
+        Some(text[at..].trim().to_owned())
+    })
 }
 
 /// Whether a hunk's statements on one side are whole branches (as many opened as closed) whose
@@ -1429,6 +1452,8 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
     let (kinds, told) = if it.located || kind != ChangeKind::StatementChanged {
         (Vec::new(), vec![false; it.diffs.len()])
     } else if let Some(t) = typed::tool_column(&it.tokens.0, &it.tokens.1, it.ctx.function_keyword, d) {
+        (vec![t], vec![true; it.diffs.len()])
+    } else if let Some(t) = typed::table_write((&it.tokens.0, &it.tokens.1), (it.tables.0.as_deref(), it.tables.1.as_deref()), d) {
         (vec![t], vec![true; it.diffs.len()])
     } else {
         typed::typed(&it.diffs, it.ctx, d)
