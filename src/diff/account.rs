@@ -1640,4 +1640,29 @@ mod tests {
         assert_eq!(spaced("#1 LT 3"), "#1 LT 3");
         assert_eq!(spaced("Ø5GT2"), "Ø5 GT 2");
     }
+
+    #[test]
+    fn a_stop_counted_to_the_next_workingstep_where_it_stayed_is_no_change() {
+        use super::{ChangeKind, blank, restopped};
+        // r759: a `STOP` at original line 337 is edited line 358 (the statements around it
+        // unchanged); removed from workingstep 16, added to workingstep 15: no change. A stop
+        // added at another line stays.
+        let stop = |kind, ws: u32, o: Option<u32>, e: Option<u32>| {
+            let mut c = blank(kind, (ws, String::new()));
+            (c.field, c.original_line, c.line) = ("stop".into(), o, e);
+            if kind == ChangeKind::StopRemoved {
+                c.before = "program stop (M00)".into()
+            } else {
+                c.after = "program stop (M00)".into()
+            }
+            c
+        };
+        let same = |o: u32| (o == 337).then_some(358);
+        let mut changes = vec![stop(ChangeKind::StopAdded, 15, None, Some(358)), stop(ChangeKind::StopRemoved, 16, Some(337), None)];
+        restopped(&mut changes, &same);
+        assert!(changes.is_empty(), "{changes:#?}");
+        let mut changes = vec![stop(ChangeKind::StopAdded, 15, None, Some(360)), stop(ChangeKind::StopRemoved, 16, Some(337), None)];
+        restopped(&mut changes, &same);
+        assert_eq!(changes.len(), 2, "{changes:#?}");
+    }
 }

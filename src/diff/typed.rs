@@ -851,7 +851,8 @@ pub(super) fn table_write((a, b): (&[Token], &[Token]), tables: (Option<&str>, O
         let at = text.to_ascii_uppercase().find(&tt.write)? + tt.write.len();
         let (target, value) = text[at..].split_once('=')?;
         let (row, cols) = target.split_once('/')?;
-        let cols: Vec<String> = cols.trim_matches('"').split(',').map(|c| c.trim().to_ascii_uppercase()).filter(|c| !c.is_empty()).collect();
+        let cols: Vec<String> =
+            cols.trim_matches('"').split(',').map(|c| c.trim().to_ascii_uppercase()).filter(|c| !c.is_empty()).collect();
         Some((row.to_owned(), cols, value.to_owned()))
     };
     let (pa, pb) = (if a.is_empty() { None } else { Some(parse(a)?) }, if b.is_empty() { None } else { Some(parse(b)?) });
@@ -880,11 +881,20 @@ pub(super) fn table_write((a, b): (&[Token], &[Token]), tables: (Option<&str>, O
         return Some(Typed { kind, field, before, after });
     }
     // Added or removed whole: the row and columns with the value.
-    let whole = |p: &Option<(String, Vec<String>, String)>| p.as_ref().map_or_else(String::new, |(r, c, v)| format!("{r}/\"{}\" = {v}", c.join(",")));
+    let whole = |p: &Option<(String, Vec<String>, String)>| {
+        p.as_ref().map_or_else(String::new, |(r, c, v)| format!("{r}/\"{}\" = {v}", c.join(",")))
+    };
     let (before, after) = if pa.is_some() && pb.is_some() { (before, after) } else { (whole(&pa), whole(&pb)) };
     let table = table.map_or_else(|| "a table not opened before it".to_owned(), |t| format!("table {}", name(t)));
-    let code = d.keyword_codes().find(|(_, spec)| spec.text.eq_ignore_ascii_case(&tt.write)).map_or(tt.write.as_str(), |(_, spec)| spec.text.as_str());
-    let field = format!("machine function {code}: write to {table}, row {row}, column{} {}", if cols.len() == 1 { "" } else { "s" }, cols.join(","));
+    let code = d
+        .keyword_codes()
+        .find(|(_, spec)| spec.text.eq_ignore_ascii_case(&tt.write))
+        .map_or(tt.write.as_str(), |(_, spec)| spec.text.as_str());
+    let field = format!(
+        "machine function {code}: write to {table}, row {row}, column{} {}",
+        if cols.len() == 1 { "" } else { "s" },
+        cols.join(",")
+    );
     Some(Typed { kind: ChangeKind::MachineFunctionChanged, field, before, after })
 }
 
