@@ -272,17 +272,22 @@ codes! {
     NoProgramEnd = ("flow::no-program-end", Error),
     /// A statement keyword the dialect does not define.
     UnknownStatement = ("flow::unknown-statement", Error),
+    /// A keyword written in a spelling the control does not take, which some posts write
+    /// (Heidenhain `CYCLE DEF` for `CYCL DEF`; the dictionary's `rejected`): read as meant,
+    /// but the control stops at the block.
+    RejectedSpelling = ("syntax::rejected-spelling", Error),
     /// Cutter compensation that cannot be computed (gouging, an arc entry).
     CompGouge = ("interp::comp-gouge", Error),
     /// Cutter radius compensation without a known offset.
     CompWithoutOffset = ("interp::comp-without-offset", Warning),
     /// A plane code (G17–G19) that changes the plane while cutter radius compensation is on,
-    /// on a control that stops at it (the dictionary's `modes-under-comp="locked"`: RS274/NGC,
-    /// LinuxCNC "Cannot change planes with cutter radius compensation on").
+    /// on a control that stops at it (the dictionary's `plane-under-comp="stops"`: Fanuc
+    /// PS0037, Mitsubishi P112; or `modes-under-comp="locked"`: RS274/NGC, LinuxCNC "Cannot
+    /// change planes with cutter radius compensation on").
     PlaneUnderComp = ("interp::plane-under-comp", Error),
     /// A plane code that changes the plane while cutter radius compensation is on, on a
     /// control whose dictionary does not say it stops there: what the control does is not
-    /// known (Fanuc stops with alarm PS0037 on its own dictionary's word only).
+    /// known.
     PlaneUnderCompUnknown = ("interp::plane-under-comp-unknown", Warning),
     /// A program that cuts without a tool change, with one tool in its header's tool list:
     /// that tool is taken as the one in the spindle.

@@ -543,6 +543,11 @@ pub struct Behaviour {
     /// radius compensation is on (`modes-under-comp="locked"`: RS274/NGC, LinuxCNC), so that
     /// the order of G40 against such a code counts.
     pub comp_locks_modes: bool,
+    /// Whether the control stops at a plane code (G17–G19) that changes the plane while
+    /// cutter or tool-nose radius compensation is on (`plane-under-comp="stops"`: Fanuc alarm
+    /// PS0037 "CAN NOT CHANGE PLANE IN G41/G42", Mitsubishi P112; implied by
+    /// `modes-under-comp="locked"`); otherwise what the control does is not known (a warning).
+    pub plane_under_comp_stops: bool,
 }
 
 /// The spindle and retract sequence of a tapping cycle at the bottom of the hole.
@@ -583,6 +588,10 @@ pub struct Macros {
     /// The columns of a tool table the program reads and writes as system data by number
     /// (Heidenhain `FN 17: SYSWRITE ID50 NR1 IDX5 = +0`: group 50, column 1, tool 5).
     pub tool_columns: Vec<ToolColumn>,
+    /// The tool table as a table the program opens and writes by column name (Heidenhain
+    /// `FN 26: TABOPEN TNC:\TOOL.T`, then `FN 27: TABWRITE 5/"L,R" = Q2`): `None` where the
+    /// dictionary names none.
+    pub tool_table: Option<ToolTable>,
     /// Deepest allowed nesting of calls.
     pub call_depth: u32,
     /// Whether digits above the fourth of a subprogram call's P are its repeat count
@@ -717,8 +726,23 @@ impl Default for Macros {
             machine_functions: Vec::new(),
             tool_data: Vec::new(),
             tool_columns: Vec::new(),
+            tool_table: None,
         }
     }
+}
+
+/// The tool table as a table a program opens and writes by column name
+/// (`<tool-table file="TOOL.T" group="50" open="TABOPEN" write="TABWRITE"/>`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolTable {
+    /// The tool table's file name (`TOOL.T`), compared without case and path.
+    pub file: String,
+    /// The system data group whose `tool-column` names are its columns (`50`).
+    pub group: u32,
+    /// The keyword code that opens a table (`TABOPEN`), upper case.
+    pub open: String,
+    /// The keyword code that writes a row's columns of the open table (`TABWRITE`), upper case.
+    pub write: String,
 }
 
 /// A tool table's column as system data by number: its group (`ID50`, the tool table), its
@@ -924,6 +948,11 @@ pub struct CodeDef {
     /// not model (`moves="true"`: Heidenhain `M140`, a retract): read with
     /// `interp::motion-unknown`, and a translation refuses rather than drop the motion.
     pub moves: bool,
+    /// A spelling some posts write that the control does not take (`rejected="CYCL DEF"`:
+    /// Heidenhain `CYCLE DEF`, where Klartext has `CYCL DEF`): the control's own spelling. The
+    /// block is read as meant, with an error where it stands (`syntax::rejected-spelling`),
+    /// for the control stops there.
+    pub rejected: Option<String>,
 }
 
 /// What a data-setting code (`G10 L..`) sets, by its L value.

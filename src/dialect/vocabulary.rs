@@ -170,8 +170,19 @@ pub fn table(d: &Dialect) -> Vec<Row> {
             (None, l) => ("M", format!("{l}{}", shown(u32::from(c.number)))),
         };
         // A code whose motion the engine does not model is intent, whatever its group.
-        let status = if c.moves { "intent" } else { "modelled" };
-        rows.push(Row { kind, code, status, what: moving(&c.name, c.moves), manual: manual.clone() });
+        // A spelling the control does not take is not the control's: it stops there.
+        let status = if c.rejected.is_some() {
+            "unsupported"
+        } else if c.moves {
+            "intent"
+        } else {
+            "modelled"
+        };
+        let what = match &c.rejected {
+            Some(spelling) => format!("{} (not the control's spelling, `{spelling}`: the control stops)", c.name),
+            None => moving(&c.name, c.moves),
+        };
+        rows.push(Row { kind, code, status, what, manual: manual.clone() });
     }
     // A statement its `<vocabulary>` restates (with the manual it comes from) is listed once,
     // as the entry says.

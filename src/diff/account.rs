@@ -61,6 +61,10 @@ struct Item {
     /// Its statements' tokens whole, the original's and the edited one's (empty for a side
     /// that has none): a statement told from all its words (a tool table's column written).
     tokens: (Vec<Token>, Vec<Token>),
+    /// For a statement that writes a table's row (the dictionary's `tool-table` write keyword,
+    /// Heidenhain `FN 27: TABWRITE`): the table each side's program opened last before it
+    /// (`FN 26: TABOPEN TNC:\TOOL.T`), as written.
+    tables: (Option<String>, Option<String>),
 }
 
 /// A hunk too large to tell statement by statement.
@@ -142,9 +146,41 @@ pub(super) fn account(
             _ => None,
         })
         .collect();
+    restopped(changes, &|o| verdict::same_line(o, (&sa, &sb), &hunks));
     locate(a, b, (&sa, &sb), hunks, pairs, changes);
     changes.splice(0..0, told);
     super::place::name_places(changes, (a.text, b.text), (&sa, &sb), (a.dialect, b.dialect), &moved);
+}
+
+/// Stops that stayed where they were, told as removed from one workingstep and added to
+/// another only because the edit moved a workingstep's first line past them (a `STOP` between
+/// two workingsteps is the earlier one's where the later one now opens with a `TOOL CALL`
+/// before its spindle start): a stop removed at an original statement and the same stop added
+/// at that statement's line in the edited program (`same`: the edited line of an original
+/// one, where the statements around it are unchanged) are no change.
+fn restopped(changes: &mut Vec<Change>, same: &dyn Fn(u32) -> Option<u32>) {
+    let single = |c: &Change| c.detail.at.len() <= 1;
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let (ChangeKind::StopRemoved, Some(o)) = (c.kind, c.original_line) else {
+            k += 1;
+            continue;
+        };
+        let Some(e) = same(o).filter(|_| single(c)) else {
+            k += 1;
+            continue;
+        };
+        let words = c.before.clone();
+        match changes.iter().position(|d| d.kind == ChangeKind::StopAdded && d.line == Some(e) && d.after == words && single(d)) {
+            Some(j) => {
+                changes.remove(k.max(j));
+                changes.remove(k.min(j));
+                k = k.min(j);
+            }
+            None => k += 1,
+        }
+    }
 }
 
 /// Whether the two programs differ only inside `( )` remarks, read as if a remark's own
@@ -423,7 +459,7 @@ fn all_same(bk: &Bulk, sa: &[Stmt], sb: &[Stmt], same: &[(Option<u32>, Option<u3
 /// in one block, so the order within a group counts (`G91` then `G90` is not `G90` then
 /// `G91`); the order across groups does not, save where the control stops at a plane or units
 /// code under cutter radius compensation (the dictionary's `modes-under-comp`: RS274/NGC,
-/// LinuxCNC): there `G40` then `G18` runs and `G18` then `G40` stops the program, so a plane or
+/// LinuxCNC; `plane-under-comp`: Fanuc PS0037, the plane only): there `G40` then `G18` runs and `G18` then `G40` stops the program, so a plane or
 /// units code is told apart by whether a `G40` of the hunk's earlier statements comes before
 /// it (in one block the control sets the plane and units before compensation: LinuxCNC's order
 /// of execution). Each as (original line, None) or (None, edited line).
@@ -454,8 +490,8 @@ fn modal_state(p: Program<'_>, s: &[Stmt], r: &std::ops::Range<usize>) -> Option
         for t in statement::tokens_in(&statement::text_of(p.text, p.dialect, &s[k]), p.dialect) {
             let code = about(&t, p.dialect);
             comp_off_here |= matches!(code, About::Code(M::CompOff));
-            let locked = p.dialect.behaviour.comp_locks_modes
-                && matches!(code, About::Code(M::PlaneXy | M::PlaneXz | M::PlaneYz | M::UnitsInch | M::UnitsMm));
+            let locked = (p.dialect.behaviour.comp_locks_modes && matches!(code, About::Code(M::UnitsInch | M::UnitsMm)))
+                || (p.dialect.behaviour.plane_under_comp_stops && matches!(code, About::Code(M::PlaneXy | M::PlaneXz | M::PlaneYz)));
             let group = match code {
                 About::Code(
                     m @ (M::PlaneXy
@@ -748,7 +784,9 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
                 jump_words.1.extend(t[..t.len() - target.len()].iter().filter(|_| !target.is_empty()).map(|t| t.text.clone()));
             }
             let tokens = (x.map(|x| ta[x].clone()).unwrap_or_default(), y.map(|y| tb[y].clone()).unwrap_or_default());
+            let tables = (open_table(a, sa, oi, &tokens.0), open_table(b, sb, ei, &tokens.1));
             items.push(Item {
+                tables,
                 tokens,
                 jump_words,
                 calls,
@@ -765,6 +803,23 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
         }
     }
     (items, bulks)
+}
+
+/// The table `p` opened last before its statement `k` (the dictionary's `tool-table` open
+/// keyword: Heidenhain `FN 26: TABOPEN TNC:\TOOL.T`), as written, where that statement (its
+/// `tokens`) writes a table's row (the `tool-table` write keyword, `FN 27: TABWRITE`).
+fn open_table(p: Program<'_>, s: &[Stmt], k: Option<usize>, tokens: &[Token]) -> Option<String> {
+    let tt = p.dialect.macros.tool_table.as_ref()?;
+    let k = k?;
+    let writes = tokens.iter().any(|t| t.text.to_ascii_uppercase().contains(&tt.write));
+    if !writes {
+        return None;
+    }
+    s[..k].iter().rev().find_map(|st| {
+        let text = statement::text_of(p.text, p.dialect, st);
+        let at = text.to_ascii_uppercase().find(&tt.open)? + tt.open.len();
+        Some(text[at..].trim().to_owned())
+    })
 }
 
 /// Whether a hunk's statements on one side are whole branches (as many opened as closed) whose
@@ -1398,6 +1453,8 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
         (Vec::new(), vec![false; it.diffs.len()])
     } else if let Some(t) = typed::tool_column(&it.tokens.0, &it.tokens.1, it.ctx.function_keyword, d) {
         (vec![t], vec![true; it.diffs.len()])
+    } else if let Some(t) = typed::table_write((&it.tokens.0, &it.tokens.1), (it.tables.0.as_deref(), it.tables.1.as_deref()), d) {
+        (vec![t], vec![true; it.diffs.len()])
     } else {
         typed::typed(&it.diffs, it.ctx, d)
     };
@@ -1582,5 +1639,30 @@ mod tests {
         assert_eq!(spaced("R1<3"), "R1<3");
         assert_eq!(spaced("#1 LT 3"), "#1 LT 3");
         assert_eq!(spaced("Ø5GT2"), "Ø5 GT 2");
+    }
+
+    #[test]
+    fn a_stop_counted_to_the_next_workingstep_where_it_stayed_is_no_change() {
+        use super::{ChangeKind, blank, restopped};
+        // r759: a `STOP` at original line 337 is edited line 358 (the statements around it
+        // unchanged); removed from workingstep 16, added to workingstep 15: no change. A stop
+        // added at another line stays.
+        let stop = |kind, ws: u32, o: Option<u32>, e: Option<u32>| {
+            let mut c = blank(kind, (ws, String::new()));
+            (c.field, c.original_line, c.line) = ("stop".into(), o, e);
+            if kind == ChangeKind::StopRemoved {
+                c.before = "program stop (M00)".into()
+            } else {
+                c.after = "program stop (M00)".into()
+            }
+            c
+        };
+        let same = |o: u32| (o == 337).then_some(358);
+        let mut changes = vec![stop(ChangeKind::StopAdded, 15, None, Some(358)), stop(ChangeKind::StopRemoved, 16, Some(337), None)];
+        restopped(&mut changes, &same);
+        assert!(changes.is_empty(), "{changes:#?}");
+        let mut changes = vec![stop(ChangeKind::StopAdded, 15, None, Some(360)), stop(ChangeKind::StopRemoved, 16, Some(337), None)];
+        restopped(&mut changes, &same);
+        assert_eq!(changes.len(), 2, "{changes:#?}");
     }
 }

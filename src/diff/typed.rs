@@ -834,6 +834,70 @@ pub(super) fn tool_column(a: &[Token], b: &[Token], code: Option<usize>, d: &Dia
     Some(Typed { kind, field: named, before, after })
 }
 
+/// A write of a table's row by column names (the dictionary's `tool-table` write keyword:
+/// Heidenhain `FN 27: TABWRITE 5/"L,R" = Q2`, row 5's columns L and R from Q2 on), told
+/// whole from each side's statement (`a`, `b`: empty where the statement is only on the other
+/// side) and the table each side opened last before it (`tables`, `FN 26: TABOPEN
+/// TNC:\TOOL.T`). In the tool table (the dictionary's file, by name whatever the path) row n
+/// is tool n, and its columns are the `tool-column`s of its group by name: a length written
+/// is the tool's length offset changed, a radius its cutter compensation, any other column
+/// the tool data. In another table, or where no table is opened before it, the write is told
+/// as the machine function it is, naming the table, the row and the columns.
+pub(super) fn table_write((a, b): (&[Token], &[Token]), tables: (Option<&str>, Option<&str>), d: &Dialect) -> Option<Typed> {
+    let tt = d.macros.tool_table.as_ref()?;
+    // `5/"L,R"=Q2`: the row, the columns and the values.
+    let parse = |t: &[Token]| -> Option<(String, Vec<String>, String)> {
+        let text: String = t.iter().map(|t| t.text.as_str()).collect::<String>().split_whitespace().collect();
+        let at = text.to_ascii_uppercase().find(&tt.write)? + tt.write.len();
+        let (target, value) = text[at..].split_once('=')?;
+        let (row, cols) = target.split_once('/')?;
+        let cols: Vec<String> =
+            cols.trim_matches('"').split(',').map(|c| c.trim().to_ascii_uppercase()).filter(|c| !c.is_empty()).collect();
+        Some((row.to_owned(), cols, value.to_owned()))
+    };
+    let (pa, pb) = (if a.is_empty() { None } else { Some(parse(a)?) }, if b.is_empty() { None } else { Some(parse(b)?) });
+    let (row, cols, _) = pb.clone().or(pa.clone())?;
+    let table = if pb.is_some() { tables.1 } else { tables.0 };
+    // The file's name without its path (`TNC:\table\TOOL.T`).
+    let name = |t: &str| t.rsplit(['\\', '/', ':']).next().unwrap_or(t).trim_matches('"').to_owned();
+    let tool_table = table.is_some_and(|t| name(t).eq_ignore_ascii_case(&tt.file));
+    let same = pa.as_ref().zip(pb.as_ref()).is_none_or(|(x, y)| (&x.0, &x.1) == (&y.0, &y.1));
+    let side = |p: &Option<(String, Vec<String>, String)>| {
+        p.as_ref().map_or_else(String::new, |(r, c, v)| if same { v.clone() } else { format!("{r}/\"{}\" = {v}", c.join(",")) })
+    };
+    let (before, after) = (side(&pa), side(&pb));
+    if tool_table {
+        let column = |c: &str| d.macros.tool_columns.iter().find(|k| k.id == tt.group && k.name.eq_ignore_ascii_case(c));
+        let forms: Vec<Option<DataForm>> = cols.iter().map(|c| column(c).and_then(|k| k.form)).collect();
+        let kind = if forms.iter().any(|f| matches!(f, Some(DataForm::ToolLength | DataForm::ToolLengthWear))) {
+            ChangeKind::LengthOffsetChanged
+        } else if forms.iter().any(|f| matches!(f, Some(DataForm::ToolRadius | DataForm::ToolRadiusWear))) {
+            ChangeKind::CutterCompChanged
+        } else {
+            ChangeKind::ToolDataChanged
+        };
+        let named: Vec<String> = cols.iter().map(|c| column(c).map_or_else(|| c.clone(), |k| format!("{} ({})", k.name, k.what))).collect();
+        let field = format!("tool table {} of tool {row}", named.join(", "));
+        return Some(Typed { kind, field, before, after });
+    }
+    // Added or removed whole: the row and columns with the value.
+    let whole = |p: &Option<(String, Vec<String>, String)>| {
+        p.as_ref().map_or_else(String::new, |(r, c, v)| format!("{r}/\"{}\" = {v}", c.join(",")))
+    };
+    let (before, after) = if pa.is_some() && pb.is_some() { (before, after) } else { (whole(&pa), whole(&pb)) };
+    let table = table.map_or_else(|| "a table not opened before it".to_owned(), |t| format!("table {}", name(t)));
+    let code = d
+        .keyword_codes()
+        .find(|(_, spec)| spec.text.eq_ignore_ascii_case(&tt.write))
+        .map_or(tt.write.as_str(), |(_, spec)| spec.text.as_str());
+    let field = format!(
+        "machine function {code}: write to {table}, row {row}, column{} {}",
+        if cols.len() == 1 { "" } else { "s" },
+        cols.join(",")
+    );
+    Some(Typed { kind: ChangeKind::MachineFunctionChanged, field, before, after })
+}
+
 /// A statement added or removed whole that a keyword code begins (`TOOL CALL 5 Z S3000`):
 /// one change of that code's kind, with the statement's words.
 fn whole_statement(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> Option<Typed> {

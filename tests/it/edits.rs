@@ -1586,9 +1586,59 @@ fn a_plane_changed_under_cutter_compensation_breaks_the_program_where_the_contro
     };
     let got = rows("linuxcnc");
     assert!(got.iter().any(|r| r.starts_with("program_broken | interp::plane-under-comp")), "{got:#?}");
+    // Fanuc stops too: alarm PS0037 "CAN NOT CHANGE PLANE IN G41/G42" (`plane-under-comp="stops"`),
+    // and so does Mitsubishi, which extends it (P112).
+    for dialect in ["fanuc", "mitsubishi"] {
+        let got = rows(dialect);
+        assert!(got.iter().any(|r| r.starts_with("program_broken | interp::plane-under-comp")), "{dialect}: {got:#?}");
+    }
     // A control whose dictionary does not say it stops: a warning, no verdict.
     let got = rows("haas");
     assert!(!got.iter().any(|r| r.starts_with("program_broken")), "{got:#?}");
+}
+
+#[test]
+fn a_keyword_spelled_as_the_control_does_not_take_it_breaks_the_program_first() {
+    // A post's `CYCLE DEF 9.0` dwell (Klartext is `CYCL DEF`): the control stops at it. The edit
+    // that brings it in is told first as breaking the program, at every block it wrote; the
+    // dwell is still read as meant.
+    let a = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L Z+50 R0 FMAX M3\n3 L X+0 Y+0 FMAX\n4 L Z-1 F100\n5 L X+10\n6 END PGM T MM\n";
+    let b = a.replace("3 L X+0", "21 CYCLE DEF 9.0 DWELL TIME\n22 CYCLE DEF 9.1 10\n3 L X+0");
+    let changes = changes_with_findings(a, &b, "heidenhain");
+    let first = &changes[0];
+    assert_eq!(
+        (first.kind.as_str(), first.field.as_str(), first.line),
+        ("program_broken", "syntax::rejected-spelling", Some(4)),
+        "{changes:#?}"
+    );
+    assert_eq!(first.detail.at, [(None, Some(4)), (None, Some(5))], "{changes:#?}");
+    assert!(changes.iter().any(|c| c.kind.as_str() == "dwell_changed"), "{changes:#?}");
+    // The fix: written `CYCL DEF`, the edit fixes the program.
+    let c = b.replace("CYCLE DEF", "CYCL DEF");
+    let changes = changes_with_findings(&b, &c, "heidenhain");
+    assert_eq!(changes[0].kind.as_str(), "program_fixed", "{changes:#?}");
+    // Both versions stop at it alike: no verdict.
+    let d = b.replace("DWELL TIME\n22 CYCLE DEF 9.1 10", "DWELL TIME\n22 CYCLE DEF 9.1 5");
+    let changes = changes_with_findings(&b, &d, "heidenhain");
+    assert!(!changes.iter().any(|c| c.kind.as_str().starts_with("program_")), "{changes:#?}");
+}
+
+#[test]
+fn a_table_write_is_told_by_the_table_it_writes() {
+    // Heidenhain FN 26: TABOPEN opens a table, FN 27: TABWRITE writes a row's columns by name:
+    // in the tool table (TOOL.T) row n is tool n, L its length, R its radius.
+    let a = "0 BEGIN PGM T MM\n1 FN 26: TABOPEN TNC:\\table\\TOOL.T\n2 FN 27: TABWRITE 5/\"L\" = Q2\n3 FN 27: TABWRITE 5/\"TIME1\" = Q3\n4 FN 26: TABOPEN TNC:\\MEAS.TAB\n5 FN 27: TABWRITE 2/\"X\" = Q2\n6 END PGM T MM\n";
+    let b =
+        a.replace("5/\"L\" = Q2", "5/\"L\" = Q4").replace("5/\"TIME1\" = Q3", "5/\"TIME1\" = Q5").replace("2/\"X\" = Q2", "2/\"X\" = Q6");
+    let rows = kind_rows(a, &b, "heidenhain");
+    assert!(rows.contains(&"length_offset_changed | tool table L (tool length) of tool 5 | Q2 | Q4".to_owned()), "{rows:#?}");
+    assert!(rows.contains(&"tool_data_changed | tool table TIME1 (maximum tool age) of tool 5 | Q3 | Q5".to_owned()), "{rows:#?}");
+    assert!(
+        rows.contains(
+            &"machine_function_changed | machine function TABWRITE: write to table MEAS.TAB, row 2, column X | Q2 | Q6".to_owned()
+        ),
+        "{rows:#?}"
+    );
 }
 
 /// A LinuxCNC program that turns compensation off, then changes the plane or the units.

@@ -52,6 +52,7 @@ const ATTRIBUTES: &[&str] = &[
     "same-group-codes",
     "machine-coords-rapid",
     "modes-under-comp",
+    "plane-under-comp",
 ];
 
 /// The behaviour of a dialect without a `<behaviour>` element, and of each attribute left out.
@@ -101,6 +102,7 @@ fn defaults() -> Behaviour {
         initial_retract_r: false,
         same_group_last_wins: false,
         comp_locks_modes: false,
+        plane_under_comp_stops: false,
     }
 }
 
@@ -147,6 +149,8 @@ impl Cx {
         b.initial_retract_r = self.either(el, "initial-retract", "initial-level", "r-plane");
         b.same_group_last_wins = self.either(el, "same-group-codes", "error", "last");
         b.comp_locks_modes = self.either(el, "modes-under-comp", "free", "locked");
+        // Locked modes lock the plane too (RS274/NGC).
+        b.plane_under_comp_stops = self.either(el, "plane-under-comp", "unknown", "stops") || b.comp_locks_modes;
         b.initial_plane = self.initial_plane(el);
         b.tapping = self.tap_retract(el);
         b.assign_before_reads = self.parameter_assignment(el);

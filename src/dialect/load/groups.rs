@@ -32,6 +32,7 @@ const CODE_ATTRIBUTES: &[&str] = &[
     "also",
     "probe",
     "moves",
+    "rejected",
 ];
 
 impl Cx {
@@ -163,6 +164,7 @@ impl Cx {
             also,
             probe: self.bool(c, "probe", false),
             moves: self.bool(c, "moves", false),
+            rejected: self.attr(c, "rejected").map(str::to_owned),
         })
     }
 

@@ -45,7 +45,7 @@ impl Cx {
     /// `<macros>`: its attributes, then its statements, argument letters and system variables
     /// in document order. Statements are kept longest keyword first.
     pub(super) fn macros(&mut self, el: &Element) -> Macros {
-        self.shape(el, ATTRIBUTES, &["statement", "arguments", "system-variable", "tool-data", "tool-column"]);
+        self.shape(el, ATTRIBUTES, &["statement", "arguments", "system-variable", "tool-data", "tool-column", "tool-table"]);
         let mut m = Macros {
             null_value: self.bool(el, "null-value", false),
             repeat_in_p: self.bool(el, "repeat-in-p", false),
@@ -95,6 +95,7 @@ impl Cx {
                 "arguments" => self.argument_letters(c, &mut m),
                 "tool-data" => self.tool_data(c, &mut m),
                 "tool-column" => self.tool_column(c, &mut m),
+                "tool-table" => self.tool_table(c, &mut m),
                 _ if self.attr(c, "name").is_some() => self.named_system_variable(c, &mut m),
                 _ => self.numbered_system_variable(c, &mut m),
             }
@@ -319,6 +320,23 @@ impl Cx {
         };
         let (name, what) = (name.trim().to_owned(), what.trim().to_owned());
         m.tool_columns.push(crate::dialect::ToolColumn { id, nr, name, what, form });
+    }
+
+    /// `<tool-table file="TOOL.T" group="50" open="TABOPEN" write="TABWRITE"/>`: the tool table
+    /// as a table the program opens and writes by column name.
+    fn tool_table(&mut self, c: &Element, m: &mut Macros) {
+        self.shape(c, &["file", "group", "open", "write"], &[]);
+        let (Some(file), Some(group), Some(open), Some(write)) =
+            (self.required(c, "file"), self.required(c, "group"), self.required(c, "open"), self.required(c, "write"))
+        else {
+            return;
+        };
+        let Ok(group) = group.trim().parse::<u32>() else {
+            self.error(Self::attr_range(c, "group"), "`group` must be a number");
+            return;
+        };
+        let (file, open, write) = (file.trim().to_owned(), open.trim().to_ascii_uppercase(), write.trim().to_ascii_uppercase());
+        m.tool_table = Some(crate::dialect::ToolTable { file, group, open, write });
     }
 
     /// `<system-variable number="5061" meaning="..."/>`: a system variable by number.

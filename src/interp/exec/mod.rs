@@ -115,6 +115,11 @@ impl Interpreter<'_> {
             let (c, range) = self.codes[k];
             if self.dialect.groups[self.code(c).group].step == step {
                 ran = true;
+                if let Some(spelling) = &self.code(c).rejected {
+                    let def = self.code(c);
+                    let msg = format!("`{}` is not the control's spelling (`{spelling}`): the control stops at this block", def.label());
+                    diags.push(Diagnostic::new(Code::RejectedSpelling, range, msg));
+                }
                 if self.code(c).moves {
                     let def = self.code(c);
                     let d = super::read::motion_unknown(&def.label(), &def.name, range);

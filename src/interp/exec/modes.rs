@@ -14,8 +14,9 @@ use crate::text::TextRange;
 
 impl Interpreter<'_> {
     /// G17, G18, G19: the plane of arcs, compensation and cycles. Another plane while cutter
-    /// radius compensation is on stops a control whose dictionary locks the modes under it
-    /// (`modes-under-comp="locked"`: LinuxCNC "Cannot change planes with cutter radius
+    /// radius compensation is on stops a control whose dictionary says so
+    /// (`plane-under-comp="stops"`: Fanuc PS0037 "CAN NOT CHANGE PLANE IN G41/G42"; or
+    /// `modes-under-comp="locked"`: LinuxCNC "Cannot change planes with cutter radius
     /// compensation on"; the same plane again runs, as `rs274` shows); elsewhere it is a
     /// warning, the control's behaviour not being in its dictionary. The plane is taken either way.
     pub(super) fn plane(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
@@ -25,7 +26,7 @@ impl Interpreter<'_> {
             _ => Plane::Yz,
         };
         if self.st.comp_on && plane != self.st.plane && self.st.cylinder.is_none() {
-            let (code, what) = if self.dialect.behaviour.comp_locks_modes {
+            let (code, what) = if self.dialect.behaviour.plane_under_comp_stops {
                 (Code::PlaneUnderComp, "the control stops: cannot change planes with cutter radius compensation on")
             } else {
                 (
