@@ -76,3 +76,29 @@ fn cycle84_taps_at_pit_or_the_coarse_pitch_of_mpit() {
     let (out, diags) = translate(&sst, "siemens", "fanuc");
     assert!(errors(&diags).iter().any(|d| d.code.as_str() == "post::motion-unknown"), "{diags:?}\n{out}");
 }
+
+/// Heidenhain `PLANE … TURN MB MAX` retracts the tool axis to its travel limit before the
+/// rotary axes turn, as `M140 MB MAX`: a target without that move refuses the translation as
+/// unwritable; `MB n` retracts by n along the tool axis, a known move written before the tilt.
+#[test]
+fn plane_turn_mb_retracts_before_the_tilt() {
+    let tnc = "0 BEGIN PGM P MM\n1 TOOL CALL 1 Z S2000\n2 L X+0 Y+0 Z+20 R0 FMAX M3\n3 L Z-2 R0 F100\n4 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN MB MAX FMAX\n5 L X+10 Y+0 R0 FMAX\n6 L Z+5 R0 FMAX\n7 L Z-1 R0 F100\n8 L Z+50 R0 FMAX\n9 PLANE RESET STAY\n10 END PGM P MM\n";
+    for to in ["fanuc", "siemens"] {
+        let (out, diags) = translate(tnc, "heidenhain", to);
+        let e = errors(&diags);
+        assert!(e.iter().any(|d| d.code.as_str() == "post::unwritable" && d.message.contains("travel limit")), "{to}: {e:?}\n{out}");
+    }
+    let (out, diags) = translate(tnc, "heidenhain", "heidenhain");
+    assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{out}");
+    let lines: Vec<&str> = out.lines().collect();
+    let limit = lines.iter().position(|l| l.contains("MB MAX")).unwrap_or_else(|| panic!("no MB MAX in\n{out}"));
+    let plane = lines.iter().position(|l| l.contains("PLANE SPATIAL")).unwrap_or_else(|| panic!("no PLANE in\n{out}"));
+    assert!(limit <= plane, "{out}");
+    // MB 50: up 50 from Z-2 before the plane turns.
+    let by = tnc.replace("TURN MB MAX FMAX", "TURN MB50 FMAX");
+    let (out, diags) = translate(&by, "heidenhain", "fanuc");
+    assert_eq!(errors(&diags), Vec::<&Diagnostic>::new(), "{out}");
+    let lines: Vec<&str> = out.lines().collect();
+    let tilt = lines.iter().position(|l| l.contains("G68.2")).unwrap_or_else(|| panic!("no G68.2 in\n{out}"));
+    assert!(lines[..tilt].iter().any(|l| l.split_whitespace().any(|w| w == "Z48.")), "{out}");
+}
