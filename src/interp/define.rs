@@ -510,6 +510,9 @@ impl Interpreter<'_> {
             Ok(_) => format!("CYCL DEF {}", cycle.name),
             Err(_) => cycle.name.clone(),
         };
+        // A tap defined by its pitch feeds pitch x speed (`tap_feed`); the feed returns after.
+        let restore_feed = self.st.feed;
+        let (kind, tapped) = self.tap_feed(cycle, kind, &label, &args, range, sink, diags);
         let mut p = self.st.pos;
         let old_z = p[n];
         let run = HoleRun {
@@ -537,7 +540,12 @@ impl Interpreter<'_> {
         if self.st.diameter && n != 1 {
             let run = HoleRun { still: false, r_known: false, ..run };
             let across = if n == 0 { 2 } else { 0 };
-            return self.live_holes(&run, n, 1, p[5], p[across], sink);
+            self.live_holes(&run, n, 1, p[5], p[across], sink);
+            if tapped && self.st.feed != restore_feed {
+                self.st.feed = restore_feed;
+                self.emit(sink, CanonOp::SetFeedRate(restore_feed));
+            }
+            return;
         }
         // From a tool-axis position the program does not know, the hole's own first move goes
         // to R (known from there); from a known one below R, the tool rises to it first.
@@ -546,6 +554,63 @@ impl Interpreter<'_> {
             self.emit(sink, CanonOp::StraightTraverse(p));
         }
         self.st.pos = self.hole(&run, p[a0], p[a1], p, sink);
+        if tapped && self.st.feed != restore_feed {
+            self.st.feed = restore_feed;
+            self.emit(sink, CanonOp::SetFeedRate(restore_feed));
+        }
+    }
+
+    /// A rigid tap defined by its pitch (Heidenhain 207 Q239, 840D CYCLE84 PIT or MPIT, a
+    /// metric size's coarse pitch) feeds the pitch per turn of the spindle, whatever F is
+    /// in force; the sign of the pitch is the thread's hand (+ right, as M3; - left). Its
+    /// feed is the pitch times the speed in force (per minute) or the pitch (per turn);
+    /// the feed in force returns after it. Without a pitch or a speed known here (or at
+    /// a tapping speed of its own, CYCLE84 SST, other than the one in force), where it
+    /// feeds is not known: a translation refuses.
+    /// Returns the kind (its hand) and whether the feed was set (to be restored after).
+    #[allow(clippy::too_many_arguments)]
+    fn tap_feed(
+        &mut self,
+        cycle: &CycleDef,
+        kind: CycleKind,
+        label: &str,
+        args: &[(Role, f64)],
+        range: TextRange,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) -> (CycleKind, bool) {
+        let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
+        let mut tapped = false;
+        let mut kind = kind;
+        if cycle.meaning == Meaning::CycleTap && cycle.args.iter().any(|a| matches!(a.role, Role::Pitch | Role::ThreadSize)) {
+            let pitch = get(Role::Pitch).filter(|p| *p != 0.0).or_else(|| {
+                let s = get(Role::ThreadSize).filter(|s| *s != 0.0)?;
+                let pitch = super::named_turn::coarse_pitch(s.abs())?;
+                Some(pitch.copysign(s))
+            });
+            let speed = self.st.speed;
+            let own_speed = get(Role::S).filter(|s| *s > 0.0);
+            match pitch {
+                Some(pitch) if speed > 0.0 && own_speed.is_none_or(|s| s == speed) => {
+                    if pitch < 0.0 {
+                        kind = CycleKind::LeftTapping;
+                    }
+                    let f = if self.st.feed_per_rev { pitch.abs() } else { pitch.abs() * speed };
+                    tapped = true;
+                    if f != self.st.feed {
+                        self.st.feed = f;
+                        self.emit(sink, CanonOp::SetFeedRate(f));
+                    }
+                }
+                _ => {
+                    let msg = format!(
+                        "{label} taps at its pitch times the spindle speed; without its pitch or the speed known here (or at a tapping speed of its own), its feed is not known"
+                    );
+                    self.limited(diags, "tap-pitch", Diagnostic::new(Code::MotionUnknown, range, msg));
+                }
+            }
+        }
+        (kind, tapped)
     }
 
     /// Whether the defined cycle's required arguments all have values in `args` (the values

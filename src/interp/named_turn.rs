@@ -58,6 +58,11 @@ const COARSE_PITCH: [(u32, f64); 24] = [
     (60, 5.5),
 ];
 
+/// The coarse pitch of a metric thread of size `m` (M3 to M60), if the table has it.
+pub(super) fn coarse_pitch(m: f64) -> Option<f64> {
+    COARSE_PITCH.iter().find(|(size, _)| f64::from(*size) == m).map(|(_, p)| *p)
+}
+
 /// What a stock-removal call asks of its contour, for the flow driver and back.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct StockRemoval {

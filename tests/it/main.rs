@@ -101,6 +101,7 @@ mod translate;
 mod translate_known;
 mod translate_lathe;
 mod translate_stream;
+mod translate_taps;
 mod unknown_values;
 mod vocab_makers;
 mod vocabulary;

@@ -383,7 +383,7 @@ impl Interpreter<'_> {
     /// retracts to just before its software limit switch, in one traverse. Where that is,
     /// only the machine knows: the analysis leaves the position as it was, and the axis is
     /// unknown in the work frame after it, as after a reference return.
-    fn travel_limit(&mut self, sink: &mut dyn CanonSink) {
+    pub(super) fn travel_limit(&mut self, sink: &mut dyn CanonSink) {
         let (_, _, n) = self.st.plane.axes();
         let axes = std::array::from_fn(|i| (i == n).then_some(0.0));
         self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target: MachineTarget::Limit, axes })));

@@ -321,7 +321,45 @@ impl Interpreter<'_> {
         };
         // A plane from the one in force (relative angles, G68.4) already stands on its datum.
         let frame = if matches!(meaning, Meaning::TiltRelative | Meaning::TiltEulerIncremental) { frame } else { self.on_datum(frame) };
+        self.plane_retract(rest_text, range, sink, diags);
         self.set_frame(frame, sink);
+    }
+
+    /// Heidenhain `PLANE … TURN MB …` (TNC 640 user's manual, "Tilting the working plane",
+    /// retraction MB): before the rotary axes turn, the tool retracts along the tool axis in
+    /// force, `MB MAX` to just before its travel limit (as `M140 MB MAX`: a move in the
+    /// machine's frame, the axis unknown after it), `MB n` by n (incremental, away from the
+    /// part). An `MB n` from a tool-axis position the program does not know goes where the
+    /// analysis cannot say: a motion it does not know.
+    fn plane_retract(&mut self, rest: &str, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let words: Vec<&str> = rest.split_whitespace().collect();
+        let Some(at) = words.iter().position(|w| w.starts_with("MB")) else { return };
+        let value = match &words[at][2..] {
+            "" => words.get(at + 1).copied().unwrap_or(""),
+            v => v,
+        };
+        if value == "MAX" {
+            self.travel_limit(sink);
+            return;
+        }
+        let Ok(by) = value.parse::<f64>() else {
+            let msg = format!(
+                "the retract `MB {value}` before the plane turns is not a number the analysis can read: where it goes is not known"
+            );
+            return diags.push(Diagnostic::new(Code::MotionUnknown, range, msg));
+        };
+        let (_, _, n) = self.st.plane.axes();
+        if by == 0.0 {
+            return;
+        }
+        if !self.knows(n) {
+            let msg = format!("the retract `MB {value}` before the plane turns goes from a tool-axis position the program does not know");
+            return diags.push(Diagnostic::new(Code::MotionUnknown, range, msg));
+        }
+        let mut p = self.st.pos;
+        p[n] += by;
+        self.emit(sink, CanonOp::StraightTraverse(p));
+        self.st.pos = p;
     }
 
     /// A plane stated in the coordinates in force: turned about the datum a local shift moved
