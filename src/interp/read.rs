@@ -360,7 +360,7 @@ impl Interpreter<'_> {
                 None => return false,
             },
         };
-        if role == Role::P && matches!(w.value, Value::Number { decimal: true, .. }) && self.dwell_block() {
+        if role == Role::P && matches!(w.value, Value::Number { decimal: true, .. }) && self.dwell_block(block) {
             v = self.dwell_p_point(block, w.range, v, diags);
         }
         v = self.least_increment(block, w, role, v, how, diags);
@@ -390,14 +390,18 @@ impl Interpreter<'_> {
     /// cycle (`G82 ... P`, `G89 ... P`) among its codes, or a repeat line of the canned cycle in
     /// force (`X2. P1.` under a modal `G82`: the cycle runs again at the new position with the
     /// new dwell; Fanuc and Haas operator's manuals, canned cycles: the cycle's data stay modal
-    /// and a block of them alone repeats it), where no code of the block takes a P of its own
-    /// (`M98 P`, `G10 P`) and none sets another motion.
-    fn dwell_block(&self) -> bool {
+    /// and a block of them alone repeats it). A repeat line has a position word (an axis or R:
+    /// Fanuc 0i-F/30i operator's manuals, canned cycles: a block with no axis word does not run
+    /// the cycle, so `M06 P3.` under `G81` is no repeat), the cycle in force takes a P (its
+    /// dwell; the P is then used, not an unused word), and no code of the block takes a P of
+    /// its own (`M98 P`, `G10 P`) or sets another motion.
+    fn dwell_block(&self, block: &Block) -> bool {
         let own = self.codes.iter().any(|&(c, _)| {
             let m = self.code(c).meaning;
             m == Meaning::Dwell || m.is_cycle()
         });
-        own || (self.st.motion_code.is_some_and(|c| self.code(c).meaning.is_cycle())
+        own || (self.st.motion_code.is_some_and(|c| self.code(c).meaning.is_cycle() && self.code(c).params.takes(Role::P))
+            && block.words.iter().any(|w| w.role.is_axis() || w.role == Role::R)
             && !self.codes.iter().any(|&(c, _)| {
                 let def = self.code(c);
                 def.params.takes(Role::P) || !def.args.is_empty() || self.dialect.groups[def.group].step == Step::Motion

@@ -177,3 +177,44 @@ fn a_broken_recognition_pattern_is_reported_with_its_position() {
     let line = xml[..d.range.start as usize].lines().count();
     assert_eq!(line, 5, "{d:?}");
 }
+
+/// Every shipped dialect's `plane-under-comp` as read (inherited or its own): a value a new
+/// dialect inherits from its base shows here. `stops` only where the manual was checked
+/// (Fanuc PS0037, and the dialects whose own manuals say so or lock modes under comp).
+#[test]
+fn every_dialect_s_plane_under_comp_is_listed() {
+    let mut r = Registry::default();
+    let mut got = Vec::new();
+    for (origin, text) in dialect::registry::SHIPPED {
+        let d = r.add_with_findings(origin, text).0.unwrap();
+        got.push(format!("{}={}", d.name, if d.behaviour.plane_under_comp_stops { "stops" } else { "unknown" }));
+    }
+    got.sort();
+    let want: Vec<&str> = vec![
+        "centroid=stops",
+        "cldata=unknown",
+        "fagor=unknown",
+        "fagor_lathe=unknown",
+        "fanuc=stops",
+        "fanuc_lathe=stops",
+        "fanuc_lathe_b=stops",
+        "haas=unknown",
+        "haas_lathe=unknown",
+        "heidenhain=unknown",
+        "heidenhain_iso=unknown",
+        "linuxcnc=stops",
+        "lnc=unknown",
+        "mach3=stops",
+        "mazak=unknown",
+        "mazak_lathe=unknown",
+        "mazak_millturn=unknown",
+        "mitsubishi=stops",
+        "mitsubishi_lathe=stops",
+        "okuma=unknown",
+        "okuma_lathe=unknown",
+        "pathpilot=stops",
+        "siemens=unknown",
+        "siemens_810=unknown",
+    ];
+    assert_eq!(got, want, "{got:#?}");
+}

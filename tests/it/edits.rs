@@ -1641,6 +1641,22 @@ fn a_table_write_is_told_by_the_table_it_writes() {
     );
 }
 
+#[test]
+fn a_table_named_in_a_comment_is_no_table_opened_or_written() {
+    // A comment that names TABOPEN or TABWRITE opens and writes nothing: the write is told by the
+    // table the program last opened (MEAS.TAB), and a comment's edit is no tool data.
+    let a = "0 BEGIN PGM T MM\n1 FN 26: TABOPEN TNC:\\MEAS.TAB\n2 ; FN 26: TABOPEN TNC:\\table\\TOOL.T\n3 FN 27: TABWRITE 5/\"L\" = Q2\n4 ; FN 27: TABWRITE 7/\"R\" = Q3\n5 END PGM T MM\n";
+    let b = a.replace("5/\"L\" = Q2", "5/\"L\" = Q4").replace("7/\"R\" = Q3", "7/\"R\" = Q5");
+    let rows = kind_rows(a, &b, "heidenhain");
+    assert!(
+        rows.contains(
+            &"machine_function_changed | machine function TABWRITE: write to table MEAS.TAB, row 5, column L | Q2 | Q4".to_owned()
+        ),
+        "{rows:#?}"
+    );
+    assert!(!rows.iter().any(|r| r.contains("tool table") || r.contains("row 7")), "{rows:#?}");
+}
+
 /// A LinuxCNC program that turns compensation off, then changes the plane or the units.
 const COMP_THEN_MODE: &str =
     "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG41 D1 G1 X10 Y0\nG1 X20\nG40\nG18 G90\nG0 Z20\nM30\n";

@@ -573,6 +573,24 @@ fn a_cycle_repeat_line_reads_its_dwell_as_the_cycle_block_does() {
     assert!(!whole.iter().any(|x| x.code == Code::DwellPointAlarm), "{whole:?}");
 }
 
+/// A block with no position word (axis or R) repeats no canned cycle (Fanuc operator's manual,
+/// canned cycles: a block without an axis word does not run the cycle): its P is no dwell
+/// (`M06 P3.` under `G81`). A P read as the cycle's dwell is used, not an unused word; under a
+/// cycle with no dwell (`G81`) a repeat line's P is no dwell either.
+#[test]
+fn only_a_block_with_a_position_word_repeats_the_cycle_s_dwell() {
+    let text = "O1\nG90 G0 X0 Y0 Z1.\nG81 X1. Y1. Z-.5 R.1 F10.\nM06 P3.\nX3. P1.\nG80\nG82 X1. Y1. Z-.5 R.1 P500 F10.\nM06 P3.\nX2. P1500\nG80\nM30\n";
+    let d = read("fanuc", text);
+    assert!(!d.iter().any(|x| x.code == Code::DwellPointAlarm), "{d:?}");
+    // Under G82 the repeat line's P is the dwell, used; the M06's P and the P under G81 are not.
+    let unused: Vec<_> = d.iter().filter(|x| x.code == Code::UnusedWord).map(|x| x.message.clone()).collect();
+    assert!(!unused.iter().any(|m| m.contains("`P1500`")), "{unused:?}");
+    assert_eq!(unused.len(), 3, "{unused:?}");
+    let alarm = read("fanuc", &text.replace("X2. P1500", "X2. P1.5"));
+    assert!(alarm.iter().any(|x| x.code == Code::DwellPointAlarm && x.message.contains("`P1.5`")), "{alarm:?}");
+    assert!(!alarm.iter().any(|x| x.code == Code::UnusedWord && x.message.contains("`P1.5`")), "{alarm:?}");
+}
+
 /// Where the dialect is a guess (low confidence: no code of its maker's own), a finding that
 /// holds for that maker alone (the Fanuc dwell-point alarm: Haas reads the point as seconds) is
 /// a warning that says the dialect was guessed; a dialect given (`-d fanuc`) keeps it an error.
