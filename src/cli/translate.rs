@@ -83,12 +83,17 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         }
         (None, None) => bail!("give a program file or --revision"),
     };
+    // A dialect told from weak evidence is read as `ncplan check` reads it (the programs
+    // beside as evidence; a maker's own finding a warning, which still refuses the translation).
+    let mut guessed = false;
     let from_name = match (from, stored_dialect) {
         (Some(n), _) => n,
         (None, Some(n)) if n != config::AUTO_DIALECT => n,
         _ => {
-            let s = pipeline::sniff(&registry, program.head_bytes(), &path);
+            let beside = config::DirPrograms::beside(&config.profile, &path, config.max_file_bytes);
+            let s = pipeline::sniff_in(&registry, program.head_bytes(), &path, &beside);
             eprintln!("{}", sniff_report(&s));
+            guessed = s.guessed();
             s.dialect
         }
     };
@@ -127,6 +132,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         ..TranslateOptions::for_program(&name)
     };
     let mut profile = config.profile.clone();
+    profile.guessed = guessed;
     if let Some(f) = &file {
         profile = config::DirPrograms::beside(&profile, f, config.max_file_bytes);
     }
