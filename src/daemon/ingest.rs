@@ -592,7 +592,6 @@ impl Reader<'_> {
 }
 
 impl Reader<'_> {
-
     /// A stored revision as the diff reads it: its whole plan, its text and its dialect.
     /// `None` when it was never analysed.
     pub fn program(&self, tx: &Txn<'_>, revision: i64, known: Option<&ProcessPlan>) -> Result<Option<Stored>> {
