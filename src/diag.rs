@@ -70,11 +70,17 @@ macro_rules! codes {
 
 impl Code {
     /// Whether the finding holds for one maker's control alone: it follows from a behaviour
-    /// the dictionary states for its maker (`dwell-point="alarm"`) where other makers whose
-    /// dictionaries share its lineage read the same text otherwise. On a dialect guessed from
-    /// weak evidence such an error is a warning ([`crate::interp::Profile::guessed`]).
+    /// or a limit the dictionary states for its maker where other makers whose dictionaries
+    /// share its lineage read the same text otherwise: the dwell-point alarm
+    /// (`dwell-point="alarm"`; Haas, Mazak, Okuma read `P.01` as a dwell), the plane change
+    /// under compensation (`plane-under-comp="stops"`: Fanuc PS0037, where Haas, Mazak, Okuma,
+    /// Fagor, LNC state no stop; not the RS274/NGC language's `modes-under-comp="locked"`,
+    /// [`crate::interp`] keeps that one), a variable number above the maker's
+    /// `highest-variable` (Fanuc #19999, Mitsubishi #907400, LNC #106999). On a dialect guessed
+    /// from weak evidence such an error is a warning ([`crate::interp::Profile::guessed`]).
+    /// A malformed word, a bad arc, a missing label hold on every control: not here.
     pub fn maker_specific(self) -> bool {
-        matches!(self, Code::DwellPointAlarm)
+        matches!(self, Code::DwellPointAlarm | Code::PlaneUnderComp | Code::VariableOutOfRange)
     }
 }
 
@@ -207,6 +213,9 @@ codes! {
     NoFeed = ("interp::no-feed", Error),
     /// A reference to a parameter that has no value.
     UndefinedParameter = ("interp::undefined-parameter", Error),
+    /// A whole variable number above the dictionary's `highest-variable`: the maker's control
+    /// has no such variable and stops (Fanuc PS0115 "VARIABLE NO. OUT OF RANGE").
+    VariableOutOfRange = ("interp::variable-out-of-range", Error),
     /// A variable read before it is set, on a control where that reads 0.
     UnsetVariable = ("interp::unset-variable", Warning),
     /// A length without a decimal point under least-increment input, in a program whose other

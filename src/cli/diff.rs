@@ -44,23 +44,30 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let registry = registry_for(Some(&config))?;
     let read = |p: &Path| std::fs::read(p).with_context(|| format!("cannot read {}", p.display()));
     let (bytes_a, bytes_b) = (read(&original)?, read(&edited)?);
-    let pick = |given: Option<&str>, path: &Path, bytes: &[u8]| match given {
-        Some(n) => dialect(&registry, n),
-        None => {
-            let s = pipeline::sniff(&registry, bytes, path);
-            eprintln!("{}: {}", path.display(), sniff_report(&s));
-            dialect(&registry, &s.dialect)
-        }
-    };
-    let da = pick(dname.as_deref(), &original, &bytes_a)?;
-    let db = pick(edited_dialect.as_deref().or(dname.as_deref()), &edited, &bytes_b)?;
     // Each program with the subprograms kept beside it.
     let beside = |p: &Path| config::DirPrograms::beside(&config.profile, p, config.max_file_bytes);
+    // A dialect told from weak evidence is read as `ncplan check` reads it: the programs
+    // beside as evidence, a maker's own finding a warning.
+    let pick = |given: Option<&str>, path: &Path, bytes: &[u8]| -> Result<_> {
+        let mut profile = beside(path);
+        let d = match given {
+            Some(n) => dialect(&registry, n)?,
+            None => {
+                let s = pipeline::sniff_in(&registry, bytes, path, &profile);
+                eprintln!("{}: {}", path.display(), sniff_report(&s));
+                profile.guessed = s.guessed();
+                dialect(&registry, &s.dialect)?
+            }
+        };
+        Ok((d, profile))
+    };
+    let (da, pa) = pick(dname.as_deref(), &original, &bytes_a)?;
+    let (db, pb) = pick(edited_dialect.as_deref().or(dname.as_deref()), &edited, &bytes_b)?;
     // Both read on one machine: what either's words show of it holds for both.
-    let (a, b) = pipeline::analyze_pair((bytes_a, &da, &beside(&original)), (bytes_b, &db, &beside(&edited)));
+    let (a, b) = pipeline::analyze_pair((bytes_a, &da, &pa), (bytes_b, &db, &pb));
     say_stops(&original, &a.source.text, &a.diagnostics);
     say_stops(&edited, &b.source.text, &b.diagnostics);
-    let changes = pipeline::diff_beside(&a, &da, &b, &db, (&beside(&original), &beside(&edited)));
+    let changes = pipeline::diff_beside(&a, &da, &b, &db, (&pa, &pb));
     let machining = changes.iter().any(Change::is_machining);
     match format {
         Format::Json => {

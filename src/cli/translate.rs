@@ -83,14 +83,10 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         }
         (None, None) => bail!("give a program file or --revision"),
     };
-    let from_name = match (from, stored_dialect) {
-        (Some(n), _) => n,
-        (None, Some(n)) if n != config::AUTO_DIALECT => n,
-        _ => {
-            let s = pipeline::sniff(&registry, program.head_bytes(), &path);
-            eprintln!("{}", sniff_report(&s));
-            s.dialect
-        }
+    let (from_name, guessed) = match (from, stored_dialect) {
+        (Some(n), _) => (n, false),
+        (None, Some(n)) if n != config::AUTO_DIALECT => (n, false),
+        _ => sniffed(&registry, program.head_bytes(), &path, &config),
     };
     let source_dialect = dialect(&registry, &from_name)?;
     let to_name = to.or_else(|| folder.map(|f| f.dialect.clone())).context("give --to DIALECT")?;
@@ -127,6 +123,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         ..TranslateOptions::for_program(&name)
     };
     let mut profile = config.profile.clone();
+    profile.guessed = guessed; // a maker's own finding a warning, which still refuses
     if let Some(f) = &file {
         profile = config::DirPrograms::beside(&profile, f, config.max_file_bytes);
     }
@@ -216,4 +213,14 @@ fn prove_file(
         Some(why) => bail!("{why}; nothing was written"),
         None => Ok(()),
     }
+}
+
+/// The dialect of a program told from its text, as `ncplan check` tells it (the programs
+/// beside as evidence), and whether it is a guess ([`crate::interp::Profile::guessed`]).
+fn sniffed(registry: &pipeline::Registry, head: &[u8], path: &Path, config: &crate::config::Config) -> (String, bool) {
+    let beside = config::DirPrograms::beside(&config.profile, path, config.max_file_bytes);
+    let s = pipeline::sniff_in(registry, head, path, &beside);
+    eprintln!("{}", sniff_report(&s));
+    let guessed = s.guessed();
+    (s.dialect, guessed)
 }

@@ -387,7 +387,9 @@ fn record(
     let path_str = sharefile::path_text(stored_as);
     // A folder with `dialect = "auto"` has each program's dialect told from its text.
     let dialect_name = if folder.dialect == crate::config::AUTO_DIALECT {
-        let s = pipeline::sniff(registry, &bytes, path);
+        // Read with the programs beside it, as `ncplan check` reads it.
+        let beside = crate::config::DirPrograms::beside(&config.profile, path, config.max_file_bytes);
+        let s = pipeline::sniff_in(registry, &bytes, path, &beside);
         tracing::info!(path = %sharefile::path_text(path), dialect = %s.dialect, sure = s.confidence.as_str(), evidence = %s.evidence.join(", "), "Dialect told from the program.");
         s.dialect
     } else {
@@ -530,7 +532,7 @@ impl Reader<'_> {
     /// Also gives the programs the run called from outside its text, as lower-case file stems.
     pub fn analyse(&self, path: &Path, folder: &Folder, dialect: &str, bytes: &[u8]) -> Result<(pipeline::Analysis, Vec<String>)> {
         let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);
-        let mut profile = self.profile(path, folder, &d);
+        let mut profile = self.profile(path, folder, &d, bytes);
         let recording = profile.programs.take().map(|inner| std::sync::Arc::new(Recording { inner, asked: Default::default() }));
         profile.programs = recording.clone().map(|r| r as std::sync::Arc<dyn crate::interp::ProgramSource + Send + Sync>);
         let a = pipeline::analyze_plan(bytes, &d, &profile);
@@ -540,8 +542,10 @@ impl Reader<'_> {
 
     /// The profile a program of `folder` is read with: called programs from the configured
     /// directory, else from beside it; main or called as the folder says, else as its file
-    /// name says (`.SPF`), else as its form tells.
-    fn profile(&self, path: &Path, folder: &Folder, dialect: &crate::dialect::Dialect) -> crate::interp::Profile {
+    /// name says (`.SPF`), else as its form tells. In a folder whose programs' dialect is told
+    /// from their text, a dialect guessed from weak evidence is read as `ncplan check` reads it
+    /// ([`crate::interp::Profile::guessed`]).
+    fn profile(&self, path: &Path, folder: &Folder, dialect: &crate::dialect::Dialect, bytes: &[u8]) -> crate::interp::Profile {
         let mut profile = crate::config::DirPrograms::beside(&self.config.profile, path, self.config.max_file_bytes);
         // Without a configured program directory: beside the program, then in the CAM folders.
         if self.config.profile.programs.is_none() {
@@ -564,9 +568,30 @@ impl Reader<'_> {
         }
         profile.role = crate::interp::role_for(folder.program_role, path, dialect);
         profile.tools.extend(folder.tools.iter().map(|(n, t)| (*n, t.clone())));
+        profile.guessed = self.guessed_in(folder, path, &dialect.name, bytes);
         profile
     }
 
+    /// Whether the program `bytes` at the stored `path`, read in `dialect`, is read on a
+    /// guessed dialect: its folder tells each program's dialect from its text (`auto`), and
+    /// that evidence is weak ([`crate::dialect::sniff::Sniffed::guessed`]). The web's
+    /// translation reads it so.
+    pub fn guessed(&self, path: &str, dialect: &str, bytes: &[u8]) -> bool {
+        let path = &sharefile::text_path(path);
+        self.config.folder_at(path).is_some_and(|i| self.guessed_in(&self.config.folders[i], path, dialect, bytes))
+    }
+
+    /// [`Reader::guessed`] in `folder`: the sniff reads the programs beside, as ingest's does.
+    fn guessed_in(&self, folder: &Folder, path: &Path, dialect: &str, bytes: &[u8]) -> bool {
+        folder.dialect == crate::config::AUTO_DIALECT && {
+            let beside = crate::config::DirPrograms::beside(&self.config.profile, path, self.config.max_file_bytes);
+            let s = pipeline::sniff_in(self.registry, bytes, path, &beside);
+            s.guessed() && s.dialect == dialect
+        }
+    }
+}
+
+impl Reader<'_> {
     /// A stored revision as the diff reads it: its whole plan, its text and its dialect.
     /// `None` when it was never analysed.
     pub fn program(&self, tx: &Txn<'_>, revision: i64, known: Option<&ProcessPlan>) -> Result<Option<Stored>> {
@@ -640,7 +665,8 @@ impl Reader<'_> {
             },
         };
         let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);
-        Ok(pipeline::analyze_plan_owned(bytes, &d, &machine.on(&self.profile(path, &folder, &d))))
+        let profile = self.profile(path, &folder, &d, &bytes);
+        Ok(pipeline::analyze_plan_owned(bytes, &d, &machine.on(&profile)))
     }
 
     /// Two stored revisions to compare, read on one machine as `ncplan diff` reads them

@@ -426,8 +426,12 @@ pub fn interpret<'t>(text: impl Into<Text<'t>>, dialect: &Dialect, profile: &Pro
 /// ([`Code::maker_specific`]) is no error: nothing in the program shows that maker, and
 /// another maker's control of the family runs the block. It stays a warning that says the
 /// family was guessed and what that maker's control would do.
+/// A plane change under compensation is the maker's only where the dictionary says so
+/// (`plane-under-comp="stops"`); the RS274/NGC language's `modes-under-comp="locked"` holds
+/// for every control that reads that language.
 fn guessed_maker(diags: &mut [Diagnostic], dialect: &Dialect) {
-    for d in diags.iter_mut().filter(|d| d.is_error() && d.code.maker_specific()) {
+    let language = |d: &Diagnostic| d.code == Code::PlaneUnderComp && dialect.behaviour.comp_locks_modes;
+    for d in diags.iter_mut().filter(|d| d.is_error() && d.code.maker_specific() && !language(d)) {
         d.severity = Severity::Warning;
         d.message = format!(
             "{}; the dialect ({}) was guessed from evidence that shows no code of its maker's own, and another maker's control of the family may run it: give --dialect to choose",
@@ -1639,6 +1643,10 @@ impl<'a> Interpreter<'a> {
         match e {
             EvalError::Undefined(name) => {
                 Diagnostic::new(Code::UndefinedParameter, range, format!("parameter `#<{name}>` is used before it is set"))
+            }
+            // A whole number above the dictionary's highest variable: that maker's limit.
+            EvalError::BadIndex(n) if n >= 0.0 && n.fract() == 0.0 => {
+                Diagnostic::new(Code::VariableOutOfRange, range, format!("parameter number {n} is out of range"))
             }
             EvalError::BadIndex(n) => Diagnostic::new(Code::UndefinedParameter, range, format!("parameter number {n} is out of range")),
             EvalError::Domain(what) if self.st.machine_data_read => {

@@ -368,7 +368,8 @@ pub fn translate_with_facts<'t>(
 /// it) is such a motion too: its moves are dropped, and the block after the call would be
 /// written as if the position had not changed. An error of the reading refuses the
 /// translation at the first one (`post::source-error`): past it, the reading is not the
-/// control's.
+/// control's. So does a maker's own finding read as a warning on a guessed dialect: the
+/// source maker's control stops there.
 fn refusals(diags: &[Diagnostic]) -> Vec<Diagnostic> {
     let mut out: Vec<Diagnostic> = diags
         .iter()
@@ -378,7 +379,11 @@ fn refusals(diags: &[Diagnostic]) -> Vec<Diagnostic> {
             Diagnostic::new(Code::PostMotionUnknown, d.range, msg)
         })
         .collect();
-    let source_error = |d: &&Diagnostic| d.is_error() && !d.code.as_str().starts_with("post::") && d.code != Code::MissingProgram;
+    // A maker's own finding kept as a warning on a guessed dialect ([`Code::maker_specific`])
+    // still refuses: the source maker's control stops there, and the target's may too.
+    let source_error = |d: &&Diagnostic| {
+        (d.is_error() || d.code.maker_specific()) && !d.code.as_str().starts_with("post::") && d.code != Code::MissingProgram
+    };
     if let Some(first) = diags.iter().filter(source_error).min_by_key(|d| (d.range.start, d.range.end)) {
         let msg = format!(
             "the translation is refused: the program has an error here ({}: {}); past it the reading is not the control's, so nothing is written",

@@ -510,11 +510,14 @@ pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Opt
         .filter(|d| writes(d))
         .ok_or_else(|| NotFound(format!("ncplan cannot write programs in `{to}`; it writes {}", writable(registry).join(", "))))?;
     let source_dialect = registry.get(&from).ok_or_else(|| NotFound(format!("no dialect `{from}`")))?;
+    // Read as the daemon read it: a dialect guessed from weak evidence keeps a maker's own
+    // finding a warning, and the translation is refused there all the same.
+    let guessed = crate::daemon::ingest::Reader { config: &s.config, registry }.guessed(&edited.path, &from, &bytes);
     let (source, notes) = crate::text::decode_owned(bytes);
     let mut diags = crate::diag::decoding(notes);
     let stem = std::path::Path::new(&edited.path).file_stem().map(|x| x.to_string_lossy().into_owned());
     let name = crate::pipeline::program_name(&source.text).or(stem).unwrap_or_else(|| "PROGRAM".into());
-    let profile = &s.config.profile;
+    let profile = &crate::interp::Profile { guessed, ..s.config.profile.clone() };
     let opts = crate::pipeline::TranslateOptions::for_program(&name);
     let mut out = Vec::new();
     diags.extend(crate::pipeline::translate(&source.text, &source_dialect, &target, profile, opts, |chunk| out.extend_from_slice(chunk)));

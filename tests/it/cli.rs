@@ -336,3 +336,24 @@ fn translate_check_proves_the_motion_and_refuses_what_runs_otherwise() {
     let (code, out, _) = ncplan(&["translate", "demo/cam/O1234.nc", "-d", "fanuc", "--to", "siemens", "--check"]);
     assert_eq!((code, out.as_str()), (1, ""));
 }
+
+/// A program whose dialect is guessed (no code of its maker's own) reads the same in every
+/// command: `check` keeps the Fanuc-only dwell-point alarm a warning, `diff` says no stop,
+/// and `translate` refuses the translation there (the source maker's control stops at it).
+#[test]
+fn a_guessed_dialect_reads_alike_in_check_diff_and_translate() {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = tmp.path().join("part.ptp");
+    let text = "%\nO0001\nT1M6\nG90G54G0X1.Y1.S1000M3\nG43Z1.H1\nG82X1.Y1.Z-.2R.1P500F10.\nX2.P.5\nG80\nM30\n%\n";
+    std::fs::write(&p, text).unwrap();
+    let file = p.to_str().unwrap();
+    let (code, out, err) = ncplan(&["check", file]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("warning[interp::dwell-point-alarm]") && out.contains("guessed"), "{out}");
+    let (code, _, err) = ncplan(&["diff", file, file]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("error"), "{err}");
+    let (code, out, err) = ncplan(&["translate", file, "--to", "siemens"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(err.contains("post::source-error") && err.contains("dwell-point-alarm") && out.is_empty(), "{out}{err}");
+}

@@ -638,3 +638,35 @@ fn a_parenthesis_inside_a_comment_stops_rs274() {
     // A message directive is still a comment: a plain one reads without an error.
     assert!(errors(&read("linuxcnc", "G0 X0\n(MSG, tool change)\nM2\n")).is_empty());
 }
+
+/// The other findings that hold for one maker alone are warnings on a guessed dialect too: a
+/// plane change under compensation where the dictionary says the maker stops
+/// (`plane-under-comp="stops"`, Fanuc PS0037; Haas, Mazak, Okuma state no stop) and a variable
+/// above the maker's `highest-variable` (Fanuc #19999; Mitsubishi's #900001+ exist). The
+/// RS274/NGC language's own rule (`modes-under-comp="locked"`) stays an error on a guess.
+#[test]
+fn other_makers_own_findings_on_a_guessed_dialect_are_warnings() {
+    let registry = Registry::shipped();
+    let guessed = Profile { guessed: true, ..Profile::default() };
+    let plane = "O0001\nG90G0X0Y0Z1.\nG1Z-1.F10.\nG41D1X1.\nG18\nG40X0\nM30\n";
+    let variable = "O0001\n#901064=2.\nG90G0X#901064Y0\nM30\n";
+    for (text, code) in [(plane, Code::PlaneUnderComp), (variable, Code::VariableOutOfRange)] {
+        let given = read("fanuc", text);
+        assert!(given.iter().any(|x| x.code == code && x.is_error()), "{given:?}");
+        assert!(code.maker_specific());
+        let d = registry.get("fanuc").unwrap();
+        let g = interpret(text, &d, &guessed, &mut Vec::new());
+        assert!(errors(&g).is_empty(), "{:?}", errors(&g));
+        assert!(g.iter().any(|x| x.code == code && x.message.contains("guessed")), "{g:?}");
+    }
+    // Mitsubishi has the variable: no finding at all.
+    assert!(!read("mitsubishi", variable).iter().any(|x| x.code == Code::VariableOutOfRange));
+    // LinuxCNC: the language stops at a plane change under compensation, guessed or not.
+    let lcnc = "G90 G0 X0 Y0 Z1\nG1 Z-1 F10\nG41 D1 X1\nG18\nG40 X0\nM2\n";
+    let d = registry.get("linuxcnc").unwrap();
+    let g = interpret(lcnc, &d, &guessed, &mut Vec::new());
+    assert!(g.iter().any(|x| x.code == Code::PlaneUnderComp && x.is_error()), "{g:?}");
+    // A negative or fractional variable number is no maker's limit: it stays as it was.
+    let frac = read("fanuc", "O0001\n#1=-3.\nG0X#[#1]\nM30\n");
+    assert!(!frac.iter().any(|x| x.code == Code::VariableOutOfRange), "{frac:?}");
+}
