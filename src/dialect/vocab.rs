@@ -684,6 +684,8 @@ vocab! {
         /// interpreted (Siemens `D1`; the tool change activates the first edge).
         ToolEdge = "tool-edge",
         /// A retract level relative to the reference plane (Heidenhain Q204, 2nd set-up clearance).
+        /// On a swivel cycle (`tilt-cycle`), its retract before swivelling (Siemens `CYCLE800`
+        /// `_FR`): 0 none, else a retract ncplan does not model.
         RetractDistance = "retract-distance",
         /// An absolute first peck depth (Siemens FDEP).
         PeckFirstAbsolute = "peck-first-absolute",

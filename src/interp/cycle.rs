@@ -137,9 +137,11 @@ impl Interpreter<'_> {
         let code = def.label();
 
         // Up to R when the initial level is below it, in every cycle block (rs274 then moves
-        // even where a G99 retract already left the tool at R).
+        // even where a G99 retract already left the tool at R). From a level the program does
+        // not know, with R absolute, no rise from the level assumed: the hole's own first move
+        // goes to R, known from there (as a defined cycle's, `define.rs`).
         let mut p = self.st.pos;
-        if initial < r {
+        if initial < r && (self.knows(n) || !r_known) {
             p[n] = r;
             self.emit(sink, CanonOp::StraightTraverse(p));
         }

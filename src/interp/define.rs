@@ -357,8 +357,16 @@ impl Interpreter<'_> {
     /// clearance over the new surface, the tool first rises to it; then it moves in the plane.
     /// The tool-axis word is the cycle's surface (the block's call, in [`Self::cycles_after`],
     /// takes it).
-    pub(super) fn call_at_position(&mut self, sink: &mut dyn CanonSink) {
+    /// From a tool-axis position the program does not know (after a tool call, a reference
+    /// return, `M140 MB MAX`) where the control goes first depends on it (along the tool
+    /// axis where the tool stands below the set-up clearance, else in the plane at that
+    /// level): `interp::motion-unknown`, and a translation refuses.
+    pub(super) fn call_at_position(&mut self, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let (a0, a1, n) = self.st.plane.axes();
+        if !self.knows(n) {
+            let msg = "the cycle call at a position begins where the program does not know the tool axis's position (no absolute word for it since a tool call, a reference return or a retract to the travel limit): the control first moves along the tool axis where the tool stands below the set-up clearance over the surface, else in the plane at that level, so where the tool goes is not known";
+            self.limited(diags, "motion-unknown", Diagnostic::new(Code::MotionUnknown, range, msg));
+        }
         let target = |s: &Self, axis: usize| {
             let role = Role::AXES[axis];
             s.slot(role).map(|v| if s.incremental(role) { s.st.pos[axis] + v } else { v })
@@ -368,7 +376,7 @@ impl Interpreter<'_> {
         let surface_known = !self.incremental(Role::AXES[n]) || self.knows(n);
         let safety = self.defined_arg(Role::SafetyDistance).map_or(0.0, f64::abs);
         let mut p = self.st.pos;
-        if let Some(top) = surface.map(|s| s + safety).filter(|&top| p[n] < top) {
+        if let Some(top) = surface.map(|s| s + safety).filter(|&top| p[n] < top && self.knows(n)) {
             p[n] = top;
             self.emit(sink, CanonOp::StraightTraverse(p));
         }

@@ -188,7 +188,12 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
         let g8x_target = m.define.uses(Value::Retract);
         if !intent.positioned {
-            return g8x_target;
+            // A G8x cycle from an unknown level: controls differ on what it does there (rs274
+            // rises to R first where the tool stands below it and returns to the higher of
+            // the two; Fanuc moves to the hole at that level), and a tool length offset still
+            // pending would be written only after the cycle. Not written as the target's
+            // cycle: left to its moves, refused where they cannot be stated.
+            return false;
         }
         !g8x_target && (m.define.uses(Value::Clear) || m.define.uses(Value::ClearDist))
     }

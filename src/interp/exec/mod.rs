@@ -273,7 +273,7 @@ impl Interpreter<'_> {
             Meaning::CycleDefine => self.define_numbered_cycle(def, range, block, sink, diags),
             // Carried out after the block's moves (`cycles_after`).
             Meaning::CycleCall | Meaning::CycleModal => {}
-            Meaning::CycleCallAt => self.call_at_position(sink),
+            Meaning::CycleCallAt => self.call_at_position(range, sink, diags),
             Meaning::MachineDataRead => self.machine_data_read(def, range, diags),
             Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid => self.code_pattern(def, range, block, sink, diags),
             m if m.names_contour() => self.contour_cycle(def, range, diags),

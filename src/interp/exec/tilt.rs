@@ -468,6 +468,15 @@ impl Interpreter<'_> {
         diags: &mut Vec<Diagnostic>,
     ) {
         let get = |r: Role| args.iter().find(|(a, _)| *a == r).map(|(_, v)| *v);
+        // `_FR` other than 0: the control retracts (along Z, then X/Y, or along the tool axis
+        // by `_FR_I` or to the travel limit) before it swivels. Not modelled: the toolpath
+        // after it is not known, and a translation refuses rather than swivel without it.
+        if let Some(fr) = get(Role::RetractDistance).filter(|&fr| fr != 0.0) {
+            let msg = format!(
+                "`CYCLE800` with retract mode _FR={fr} (a retract before the swivel, to the machine's retract position or along the tool axis) moves the machine, and ncplan does not model that retract: the toolpath after it is not known"
+            );
+            self.limited(diags, "motion-unknown", Diagnostic::new(Code::MotionUnknown, range, msg));
+        }
         let angles = [Role::TiltA, Role::TiltB, Role::TiltC].map(|r| get(r).unwrap_or(0.0));
         let Some(mode) = get(Role::TiltMode) else {
             if angles.iter().all(|&a| a == 0.0) {
