@@ -62,7 +62,7 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
         write_feature(out, f)?;
     }
     for w in &plan.workingsteps {
-        if let Some(words) = super::turning::words(w).filter(|_| !w.path_only()) {
+        if let Some(words) = super::turning::words(w) {
             let f = w.feature.map(|f| format!(" of feature {f}")).unwrap_or_default();
             writeln!(out, "workingstep {}{f} T{}: {words}, lines {}-{}", w.index, w.tool, w.lines.0, w.lines.1)?;
             continue;
@@ -72,7 +72,7 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
             out,
             "workingstep {} ({}{}) T{} F{} {} spindle {}{}, coolant {}, lines {}-{}",
             w.index,
-            if w.path_only() { super::PATH_ONLY } else { w.operation.label() },
+            w.operation.label(),
             w.feature.map(|f| format!(" of feature {f}")).unwrap_or_default(),
             w.tool,
             num(t.feed),

@@ -1064,16 +1064,10 @@ pub struct Workingstep {
     pub lines: (u32, u32),
 }
 
-/// What a path-only workingstep is told as: no machining is read into it.
-pub const PATH_ONLY: &str = "contour path (no tool, spindle or feed in this file)";
-
 impl Workingstep {
     /// The operation in words: a turning workingstep's (`contouring rough`), else the ISO
     /// 14649-11 operation's label.
     pub fn label(&self) -> String {
-        if self.path_only() {
-            return PATH_ONLY.into();
-        }
         match self.turning.as_deref().and_then(|t| t.operation.map(|o| (o, t.rough, t.inside))) {
             Some((o, rough, inside)) => {
                 let stage = match o {
@@ -1085,23 +1079,6 @@ impl Workingstep {
             }
             None => self.operation.label().into(),
         }
-    }
-
-    /// Whether the workingstep is a path only: no tool selected, the spindle never started, no
-    /// feed rate, and no cycle (holes, a lathe cycle's intent) of its own. A contour's blocks
-    /// read alone (the contour program a `CYCLE62` names, whose cycle cuts it) or a routine
-    /// whose caller sets tool and feed: its path is kept (a diff tells a moved point), but no
-    /// machining is read into it (no operation of its own, no feature).
-    pub fn path_only(&self) -> bool {
-        let t = &self.technology;
-        self.tool == 0
-            && t.spindle == SpindleDir::Off
-            && t.spindle_speed == 0.0
-            && t.surface_speed.is_none()
-            && t.feed == 0.0
-            && t.feeds.iter().all(|f| *f == 0.0)
-            && self.holes.is_empty()
-            && self.turning.as_deref().is_none_or(|t| t.intent.is_none() && t.pitch.is_none() && t.feed_per_rev.is_none_or(|f| f == 0.0))
     }
 
     /// A workingstep with its toolpath and what was decided about it; what the toolpath

@@ -70,6 +70,19 @@ impl<'p> Recoverer<'p> {
     pub fn finish(self, program: Option<String>) -> (ProcessPlan, Vec<Diagnostic>) {
         let Recoverer { mut r, profile } = self;
         r.close();
+        // Moves no tool, spindle or feed rate runs (a contour's blocks read alone: the
+        // contour program a `CYCLE62` names, whose cycle cuts it): a control runs no feed move
+        // without a feed rate (Fanuc PS0011, SINUMERIK alarm 10860), so they cut nothing, and
+        // are no workingstep.
+        let before = r.done.len();
+        r.done.retain(|w| !path_only(w));
+        if r.done.len() < before {
+            for (k, w) in r.done.iter_mut().enumerate() {
+                w.index = k as u32 + 1;
+            }
+            let used: BTreeSet<u32> = r.done.iter().map(|w| w.tool).collect();
+            r.tools.retain(|n, _| *n != 0 || used.contains(&0));
+        }
         if let Some(last) = r.done.last_mut() {
             let n = last.toolpath.len() as u32;
             last.state.stops.extend(r.pending_stops.drain(..).map(|s| Stop { at: n, ..s }));
@@ -88,12 +101,7 @@ impl<'p> Recoverer<'p> {
             .or_else(|| placed.map(|s| stock(s, StockSource::Program, r.stock_line)));
         let mut tools: Vec<Tool> = r.tools.into_values().collect();
         tools.sort_by_key(|t| t.number);
-        // A path only (no tool, spindle or feed in this file: a contour's blocks read alone, a
-        // routine whose caller sets them) is kept as the explicit path it is, out of the
-        // recognition: it machines no feature.
-        let (paths, done): (Vec<Workingstep>, Vec<Workingstep>) = r.done.into_iter().partition(|w| w.path_only());
-        let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: done, features: Vec::new(), workpiece };
-        let numbers = (!paths.is_empty()).then(|| renumber(&mut plan));
+        let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
         if r.lathe && plan.workingsteps.iter().any(|w| w.turning.is_none()) {
             mill_turn(&mut plan);
         } else if r.lathe {
@@ -104,15 +112,6 @@ impl<'p> Recoverer<'p> {
             infer_tool_kinds(&mut plan);
             feature::recognise(&mut plan);
         }
-        if let Some(numbers) = numbers {
-            restore_numbers(&mut plan, &numbers);
-            plan.workingsteps.extend(paths.into_iter().map(|mut w| {
-                w.strategy =
-                    Some(Strategy { kind: StrategyKind::Explicit, feed_direction: None, rotation: None, cutmode: None, overlap: None });
-                w
-            }));
-            plan.workingsteps.sort_by_key(|w| w.index);
-        }
         // A milling cycle's surface placed its feature's top; the feature carries it now.
         for ws in &mut plan.workingsteps {
             ws.surface = None;
@@ -121,6 +120,20 @@ impl<'p> Recoverer<'p> {
         diags.extend(super::risk::diagnostics(&plan));
         (plan, diags)
     }
+}
+
+/// Whether a workingstep is a path only: no tool selected, the spindle never started, no feed
+/// rate for its feed moves, and no cycle (holes, a lathe cycle's intent) of its own.
+fn path_only(w: &Workingstep) -> bool {
+    let t = &w.technology;
+    w.tool == 0
+        && t.spindle == SpindleDir::Off
+        && t.spindle_speed == 0.0
+        && t.surface_speed.is_none()
+        && t.feed == 0.0
+        && t.feeds.iter().all(|f| *f == 0.0)
+        && w.holes.is_empty()
+        && w.turning.as_deref().is_none_or(|t| t.intent.is_none() && t.pitch.is_none() && t.feed_per_rev.is_none_or(|f| f == 0.0))
 }
 
 /// A program that turns and mills (a driven tool on the face): its turning workingsteps

@@ -2237,7 +2237,7 @@ fn lathe_build19_programs() {
 
 /// A contour program read alone (the blocks a `CYCLE62` or a contour cycle names, kept in a
 /// program of their own: no tool, no spindle, no feed rate) machines nothing: a control runs no
-/// feed move without a feed rate. Its path is kept as a path only: no feature, no tool made up for it. A program
+/// feed move without a feed rate. No workingstep, no feature, no tool made up for it. A program
 /// that selects a tool, starts the spindle and feeds still cuts, and so do feed moves at a
 /// programmed feed rate with neither tool nor spindle stated.
 #[test]
@@ -2250,13 +2250,8 @@ fn a_contour_program_read_alone_machines_nothing() {
     let labelled = "E_LAB_A_STEP: ;#SM Z:3\nG18 G90 DIAM90\nG0 Z0 X0\nG1 X48 CHR=1\nZ-22\nX66\nE_LAB_E_STEP:\nN90 M17\n";
     for text in [named, labelled] {
         let p = plan(text);
-        // Its path is kept (a diff tells a moved point), told as a path only.
-        assert!(
-            !p.workingsteps.is_empty() && p.workingsteps.iter().all(|w| w.path_only() && w.label().starts_with("contour path")),
-            "{:?}",
-            p.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>()
-        );
-        assert!(p.features.is_empty() && p.tools.iter().all(|t| t.number == 0), "{:?} {:?}", p.features, p.tools);
+        assert!(p.workingsteps.is_empty(), "{:?}", p.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>());
+        assert!(p.features.is_empty() && p.tools.is_empty(), "{:?} {:?}", p.features, p.tools);
     }
     // A tool, a spindle and a feed: the same moves turn.
     let turned = "G18 G90 G95 DIAMON\nT1 D1\nS500 M3\nG0 X50 Z2\nG1 X48 Z0 F0.2\nZ-22\nX66\nG0 X100 Z100\nM30\n";

@@ -71,7 +71,6 @@ mod fagor;
 mod faults;
 mod first_start;
 mod fixa19;
-mod fixe19;
 mod flow;
 mod home18;
 mod lathe;
