@@ -70,19 +70,6 @@ impl<'p> Recoverer<'p> {
     pub fn finish(self, program: Option<String>) -> (ProcessPlan, Vec<Diagnostic>) {
         let Recoverer { mut r, profile } = self;
         r.close();
-        // Moves no tool, spindle or feed rate runs (a contour's blocks read alone: the
-        // contour program a `CYCLE62` names, whose cycle cuts it): a control runs no feed move
-        // without a feed rate (Fanuc PS0011, SINUMERIK alarm 10860), so they cut nothing, and
-        // are no workingstep.
-        let before = r.done.len();
-        r.done.retain(|w| !path_only(w));
-        if r.done.len() < before {
-            for (k, w) in r.done.iter_mut().enumerate() {
-                w.index = k as u32 + 1;
-            }
-            let used: BTreeSet<u32> = r.done.iter().map(|w| w.tool).collect();
-            r.tools.retain(|n, _| *n != 0 || used.contains(&0));
-        }
         if let Some(last) = r.done.last_mut() {
             let n = last.toolpath.len() as u32;
             last.state.stops.extend(r.pending_stops.drain(..).map(|s| Stop { at: n, ..s }));
@@ -120,20 +107,6 @@ impl<'p> Recoverer<'p> {
         diags.extend(super::risk::diagnostics(&plan));
         (plan, diags)
     }
-}
-
-/// Whether a workingstep is a path only: no tool selected, the spindle never started, no feed
-/// rate for its feed moves, and no cycle (holes, a lathe cycle's intent) of its own.
-fn path_only(w: &Workingstep) -> bool {
-    let t = &w.technology;
-    w.tool == 0
-        && t.spindle == SpindleDir::Off
-        && t.spindle_speed == 0.0
-        && t.surface_speed.is_none()
-        && t.feed == 0.0
-        && t.feeds.iter().all(|f| *f == 0.0)
-        && w.holes.is_empty()
-        && w.turning.as_deref().is_none_or(|t| t.intent.is_none() && t.pitch.is_none() && t.feed_per_rev.is_none_or(|f| f == 0.0))
 }
 
 /// A program that turns and mills (a driven tool on the face): its turning workingsteps
