@@ -353,11 +353,12 @@
 //! guessed family is no error); k019 (a Haas dispatcher) raises its own `#3000` alarm on the
 //! branch the analysis takes, which a control takes only when cycle start is pushed by hand.
 //!
-//! Sweep 19 (rows l001-l028, half `holdout-s19`, gathered by gather19b: held out whole; 28
-//! programs of 5 repositories, files no set used of repositories other sets used in part):
+//! Sweep 19 (rows l001-l032, half `holdout-s19`, gathered by gather19b: held out whole; 32
+//! programs of 6 repositories, files no set used of repositories other sets used in part):
 //! Mitsubishi 11 (a horizontal machining centre's bundled pallet, tool-change, measuring and
 //! parameter-check macros), Siemens 8 (the FB422 grinder's entry and setup cycles), Haas 7,
-//! Fanuc 1, Mazak 1; 1 invalid. Not yet measured.
+//! Heidenhain 4 (hyperMILL drilling and tapping jobs), Fanuc 1, Mazak 1; 1 invalid. Not yet
+//! measured.
 
 use std::path::PathBuf;
 
