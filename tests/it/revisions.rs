@@ -212,8 +212,8 @@ impl Figures {
     }
 }
 
-/// The part a real pair belongs to: `held17` (held back in issue 41's eighteenth round, measured once
-/// at the end), `held16` (held back in the seventeenth round, measured, spent), `build16` (the sixteenth round's pairs built on), `held15` (held back in the fifteenth round, measured, spent), `held14` (held back in the fourteenth round, measured, spent), `held13` (held back in the thirteenth round, measured, spent), `held12` (held back in the twelfth round, measured, spent), `held11` (held back in the eleventh round, measured, spent), `held10` (held back in the tenth round, measured, spent), `held9` (held back in the ninth round, measured, spent), `held8` (held back in the eighth round, measured, spent), `held7` (held back in the seventh round, measured, spent), `held6` (held back in the sixth round, measured, spent), `held5` (held back in the fifth round, measured, spent), `held4` (held back in issue 41's fourth round, measured,
+/// The part a real pair belongs to: `held18` (held back in issue 41's nineteenth round, measured once
+/// at the end), `held17` (held back in the eighteenth round, measured, spent), `held16` (held back in the seventeenth round, measured, spent), `build16` (the sixteenth round's pairs built on), `held15` (held back in the fifteenth round, measured, spent), `held14` (held back in the fourteenth round, measured, spent), `held13` (held back in the thirteenth round, measured, spent), `held12` (held back in the twelfth round, measured, spent), `held11` (held back in the eleventh round, measured, spent), `held10` (held back in the tenth round, measured, spent), `held9` (held back in the ninth round, measured, spent), `held8` (held back in the eighth round, measured, spent), `held7` (held back in the seventh round, measured, spent), `held6` (held back in the sixth round, measured, spent), `held5` (held back in the fifth round, measured, spent), `held4` (held back in issue 41's fourth round, measured,
 /// once at the end), `held3` (held back in the third round, measured, spent), `built3` (the third round's pairs built on), `held` and `built` (the second
 /// round's, `r183`–`r235`, its held-back part measured and spent), or `old` (the first sets,
 /// `r001`–`r182`, whose held-back part was measured in the first round and is spent).
@@ -222,7 +222,7 @@ fn part(p: &Pair) -> &str {
 }
 
 /// The parts, and how the figures name them.
-const PARTS: [(&str, &str); 20] = [
+const PARTS: [(&str, &str); 21] = [
     ("old", "old pairs (r001-r182, all seen)"),
     ("built", "second round's pairs built on (r183-r235)"),
     ("held", "second round's pairs held back (r183-r235, measured, spent)"),
@@ -243,6 +243,7 @@ const PARTS: [(&str, &str); 20] = [
     ("build16", "sixteenth round's pairs built on (r900-)"),
     ("held16", "seventeenth round's pairs held back (r705-r735)"),
     ("held17", "eighteenth round's pairs held back (r736-r759)"),
+    ("held18", "nineteenth round's pairs held back (r760-r783)"),
 ];
 
 fn report(pairs: &[Pair]) -> (String, usize) {
@@ -299,7 +300,7 @@ fn own_revision_pairs_are_accounted_for() {
 #[test]
 fn real_revision_pairs_are_accounted_for() {
     let Some(texts) = std::env::var_os("NCPLAN_REVISIONS_REAL") else { return };
-    // `old`, `built`, `held`, `built3`, `held3`, `held4`, `held5`, `held6`, `held7`, `held8`, `held9`, `held10`, `held11`, `held12`, `held13`, `held14`, `held15`, `build16`, `held16` or `held17`: only that part (several joined with `,`).
+    // `old`, `built`, `held`, `built3`, `held3`, `held4`, `held5`, `held6`, `held7`, `held8`, `held9`, `held10`, `held11`, `held12`, `held13`, `held14`, `held15`, `build16`, `held16`, `held17` or `held18`: only that part (several joined with `,`).
     let only = std::env::var("NCPLAN_REVISIONS_PART").unwrap_or_default();
     let pairs: Vec<Pair> =
         real_pairs(Path::new(&texts)).into_iter().filter(|p| only.is_empty() || only.split(',').any(|o| o == part(p))).collect();
