@@ -357,8 +357,11 @@
 //! programs of 6 repositories, files no set used of repositories other sets used in part):
 //! Mitsubishi 11 (a horizontal machining centre's bundled pallet, tool-change, measuring and
 //! parameter-check macros), Siemens 8 (the FB422 grinder's entry and setup cycles), Haas 7,
-//! Heidenhain 4 (hyperMILL drilling and tapping jobs), Fanuc 1, Mazak 1; 1 invalid. Not yet
-//! measured.
+//! Heidenhain 4 (hyperMILL drilling and tapping jobs), Fanuc 1, Mazak 1; 1 invalid. Measured once
+//! (session 19, integrate 8357e035): 26/31 valid without an error (83.9%), family 28/31 valid and
+//! 29/32 of all, invalid rejected 0/1. The misses: three Haas pen-plotter programs with a
+//! parenthesis nested in a comment, a Sinumerik grinder cycle, two Mitsubishi machine-bundle macros
+//! read as Haas and Fanuc, and the invalid l017 (a misspelt name in both branches) not rejected.
 
 use std::path::PathBuf;
 
