@@ -1164,18 +1164,23 @@ fn plunges_side_by_side(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep))
                 .is_some_and(|i| i.kind == Some(TurnKind::Groove) && i.span.is_none() && i.step.is_none())
     };
     let widths: Vec<(u32, f64)> = plan.tools.iter().filter_map(|t| tool_width(t).map(|w| (t.number, w))).collect();
+    join_consecutive(plan, remeasure, |prev, ws| {
+        let width = widths.iter().find(|(n, _)| *n == ws.tool).map(|(_, w)| *w);
+        let (Some(width), true, true, true) = (width, groove_cycle(prev), groove_cycle(ws), same_run(prev, ws)) else {
+            return false;
+        };
+        let (Some(a), Some(b)) = (plunge_span(prev), plunge_span(ws)) else { return false };
+        a.inward == b.inward && (a.floor - b.floor).abs() < TOL && a.lo.max(b.lo) - a.hi.min(b.hi) <= width + TOL
+    });
+}
+
+/// Joins each workingstep into the one before where `joins(before, it)` (remeasured), and
+/// numbers the plan's workingsteps again.
+fn join_consecutive(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep), joins: impl Fn(&Workingstep, &Workingstep) -> bool) {
     let mut out: Vec<Workingstep> = Vec::new();
     for ws in std::mem::take(&mut plan.workingsteps) {
-        let width = widths.iter().find(|(n, _)| *n == ws.tool).map(|(_, w)| *w);
-        let joins = out.last().is_some_and(|prev| {
-            let (Some(width), true, true, true) = (width, groove_cycle(prev), groove_cycle(&ws), same_run(prev, &ws)) else {
-                return false;
-            };
-            let (Some(a), Some(b)) = (plunge_span(prev), plunge_span(&ws)) else { return false };
-            a.inward == b.inward && (a.floor - b.floor).abs() < TOL && a.lo.max(b.lo) - a.hi.min(b.hi) <= width + TOL
-        });
         match out.last_mut() {
-            Some(prev) if joins => {
+            Some(prev) if joins(prev, &ws) => {
                 join(prev, ws);
                 remeasure(prev);
             }
@@ -1226,28 +1231,14 @@ fn face_groove_walls(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     let pecks = |w: &Workingstep| {
         w.turning.as_deref().and_then(|t| t.intent.as_ref()).is_some_and(|i| i.kind == Some(TurnKind::FacePeck)) && w.holes.is_empty()
     };
-    let mut out: Vec<Workingstep> = Vec::new();
-    for ws in std::mem::take(&mut plan.workingsteps) {
-        let joins = out.last().is_some_and(|prev| {
-            pecks(prev)
-                && explicit_passes(&ws)
-                && same_run(prev, &ws)
-                && face_plunges(prev)
-                    .zip(face_plunges(&ws))
-                    .is_some_and(|(a, b)| a.lo >= b.lo - TOL && a.hi <= b.hi + TOL && b.contiguous_with(a.lo, a.hi))
-        });
-        match out.last_mut() {
-            Some(prev) if joins => {
-                join(prev, ws);
-                remeasure(prev);
-            }
-            _ => out.push(ws),
-        }
-    }
-    for (k, ws) in out.iter_mut().enumerate() {
-        ws.index = k as u32 + 1;
-    }
-    plan.workingsteps = out;
+    join_consecutive(plan, remeasure, |prev, ws| {
+        pecks(prev)
+            && explicit_passes(ws)
+            && same_run(prev, ws)
+            && face_plunges(prev)
+                .zip(face_plunges(ws))
+                .is_some_and(|(a, b)| a.lo >= b.lo - TOL && a.hi <= b.hi + TOL && b.contiguous_with(a.lo, a.hi))
+    });
 }
 
 /// A workingstep's passes as the passes of one groove (`one_groove`).

@@ -24,7 +24,7 @@ const LATHES: [&str; 9] =
 
 /// `text` from `from` to `to` as `ncplan translate` writes it: the text and the findings, the
 /// proof's among them where the writer gave no error.
-fn translate(text: &str, from: &str, to: &str) -> (String, Vec<Diagnostic>) {
+pub(crate) fn translate(text: &str, from: &str, to: &str) -> (String, Vec<Diagnostic>) {
     let (f, t) = (dialect(from), dialect(to));
     let mut out = Vec::new();
     let opts = TranslateOptions { follow_source_units: true, ..TranslateOptions::for_program("O1000") };
@@ -41,7 +41,7 @@ fn check(text: &str, from: &str, written: &str, to: &str) -> Vec<Diagnostic> {
     pipeline::check_translation(text.into(), &dialect(from), written, &dialect(to), &Profile::default(), &[])
 }
 
-fn errors(diags: &[Diagnostic]) -> Vec<&Diagnostic> {
+pub(crate) fn errors(diags: &[Diagnostic]) -> Vec<&Diagnostic> {
     diags.iter().filter(|d| d.is_error()).collect()
 }
 

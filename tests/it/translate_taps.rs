@@ -4,26 +4,8 @@
 //! target's tap at that feed, or refuses where the feed is not known.
 
 use ncplan::diag::Diagnostic;
-use ncplan::interp::Profile;
-use ncplan::pipeline::{self, TranslateOptions};
 
-use crate::translate::dialect;
-
-fn translate(text: &str, from: &str, to: &str) -> (String, Vec<Diagnostic>) {
-    let (f, t) = (dialect(from), dialect(to));
-    let mut out = Vec::new();
-    let opts = TranslateOptions { follow_source_units: true, ..TranslateOptions::for_program("O1000") };
-    let mut diags = pipeline::translate(text, &f, &t, &Profile::default(), opts, |b| out.extend_from_slice(b));
-    let written = String::from_utf8(out).expect("UTF-8");
-    if !diags.iter().any(Diagnostic::is_error) {
-        diags.extend(pipeline::check_translation(text.into(), &f, &written, &t, &Profile::default(), &[]));
-    }
-    (written, diags)
-}
-
-fn errors(diags: &[Diagnostic]) -> Vec<&Diagnostic> {
-    diags.iter().filter(|d| d.is_error()).collect()
-}
+use crate::translate_known::{errors, translate};
 
 /// The F word of the first line holding `code` (a `G84` or `G74` word).
 fn tap_feed(out: &str, code: &str) -> Option<f64> {
